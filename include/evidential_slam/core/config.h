@@ -1,0 +1,75 @@
+// Parameters of the SLAM core, one struct per component, with the defaults the project ships.
+// Names match the ROS parameters / dynamic_reconfigure fields of the same meaning.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace evidential_slam {
+
+// Forward (plausibility) and inverse (GBT) laser models, algorithm.md §3-§4.
+struct SensorModelConfig {
+  double hit_sigma = 0.025;        // σ of a hit's position along the beam (m), inverse model
+  double forward_sigma = 0.025;    // σ_f of the forward model (m)
+  double forward_window = 3.0;     // k_f: half-width of the forward hit window in σ_f
+  double free_gap = 3.0;           // k_i: Θ gap left in front of a hit, in σ
+  double random_weight = 0.2;      // r: random-measurement discount / plausibility floor
+  double prior_occupied = 0.4;     // p_o: simple-support occupancy prior of the inverse model
+  double usable_range = 20.0;      // m; longer rays only clear space up to here
+  double min_range = 0.05;         // m; shorter rays are ignored (robot body, dust)
+  bool clear_no_return = true;     // no-return rays clear space up to usable_range
+  int weight_beam_stride = 1;      // use every n-th beam for particle weights
+
+  bool isValid(std::string* why) const;
+};
+
+// Odometry motion model (Probabilistic Robotics, sample_motion_model_odometry).
+struct MotionModelConfig {
+  double alpha_rot_rot = 0.05;       // rotation noise from rotation (rad²/rad²)
+  double alpha_rot_trans = 0.002;    // rotation noise from translation (rad²/m²)
+  double alpha_trans_trans = 0.03;   // translation noise from translation (m²/m²)
+  double alpha_trans_rot = 0.01;     // translation noise from rotation (m²/rad²)
+  double min_sigma_xy = 0.005;      // m, floor so particles always spread a little
+  double min_sigma_theta = 0.002;   // rad
+
+  bool isValid(std::string* why) const;
+};
+
+// Refinement of each particle's sampled pose against its own map: ICP on nearest occupied cells
+// (wide capture), then a short hill climb on a smooth endpoint score (sub-cell precision).
+struct ScanMatcherConfig {
+  bool enabled = true;
+  double search_radius = 0.4;       // m around each endpoint searched for an occupied cell
+  double occupied_threshold = 0.5;  // m̃(o) that makes a cell a match target
+  int icp_iterations = 12;          // at most
+  double linear_step = 0.02;        // m, first hill-climb step, halved at every refinement
+  double angular_step = 0.01;       // rad
+  int refinements = 3;              // number of step halvings
+  int max_iterations = 20;          // hill-climb moves per refinement level, at most
+  double score_sigma = 0.05;        // m, spread of the endpoint score kernel
+  int beam_stride = 2;              // every n-th usable beam is matched
+  double min_match_fraction = 0.2;  // below this fraction of endpoints matched, keep the sampled pose
+  bool isValid(std::string* why) const;
+};
+
+struct SlamConfig {
+  int particles = 100;              // K (paper: 100)
+  double resolution = 0.05;         // m per cell
+  uint64_t seed = 1;                // RNG seed; runs are deterministic for a seed and thread count
+  int threads = 0;                  // worker threads; 0 = all cores
+  double update_min_distance = 0.5; // m the robot must travel before a scan is processed
+  double update_min_angle = 0.17453292519943295;  // rad (10°) it must turn, alternatively
+  double likelihood_gamma = 3.0;    // scan likelihood tempered by the exponent 1/(gamma*K)
+  double resample_threshold = 0.5;  // resample when N_eff < threshold * K
+  // Particles that share a map and whose refined poses differ by less than this are one hypothesis:
+  // they take the same pose and the scan is integrated once for all of them (0 disables).
+  double merge_distance = 0.005;    // m
+  double merge_angle = 0.0025;      // rad
+  SensorModelConfig sensor;
+  MotionModelConfig motion;
+  ScanMatcherConfig matcher;
+
+  bool isValid(std::string* why) const;
+};
+
+}  // namespace evidential_slam

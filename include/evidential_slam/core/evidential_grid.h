@@ -1,0 +1,84 @@
+// An evidential occupancy grid that grows with the explored area and shares its tiles between
+// particles: copying a grid copies tile pointers only, and a tile is cloned the first time a grid
+// that shares it writes to it (copy-on-write, in the spirit of GMapping's harray2d patches).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <unordered_set>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "evidential_slam/core/mass.h"
+
+namespace evidential_slam {
+
+// Integer cell coordinates; cell (i, j) covers [i*res, (i+1)*res) x [j*res, (j+1)*res) in the map frame.
+struct CellIndex {
+  int x = 0;
+  int y = 0;
+  bool operator==(const CellIndex& o) const { return x == o.x && y == o.y; }
+};
+
+// Inclusive cell-index box; empty when max < min.
+struct CellBox {
+  int min_x = 0, min_y = 0, max_x = -1, max_y = -1;
+  bool empty() const { return max_x < min_x || max_y < min_y; }
+  int width() const { return empty() ? 0 : max_x - min_x + 1; }
+  int height() const { return empty() ? 0 : max_y - min_y + 1; }
+  void extend(const CellBox& other);
+};
+
+class EvidentialGrid {
+ public:
+  static constexpr int kTileBits = 5;
+  static constexpr int kTileSize = 1 << kTileBits;  // cells per tile side
+  static constexpr int kTileCells = kTileSize * kTileSize;
+  struct Tile {
+    std::array<Cell, kTileCells> cells{};
+  };
+
+  EvidentialGrid() : EvidentialGrid(0.05) {}
+  explicit EvidentialGrid(double resolution);
+
+  double resolution() const { return resolution_; }
+  CellIndex worldToCell(double x, double y) const;
+  Eigen::Vector2d cellCenter(const CellIndex& c) const;
+
+  // Read access; cells outside the allocated area are vacuous.
+  const Cell& cell(int cx, int cy) const {
+    const int tx = (cx >> kTileBits) - tile_x0_;
+    const int ty = (cy >> kTileBits) - tile_y0_;
+    if (tx < 0 || ty < 0 || tx >= tiles_w_ || ty >= tiles_h_) return kVacuousCell;
+    const Tile* t = tiles_[static_cast<size_t>(ty) * tiles_w_ + tx].get();
+    if (t == nullptr) return kVacuousCell;
+    return t->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
+  }
+  const Cell& cell(const CellIndex& c) const { return cell(c.x, c.y); }
+
+  // Write access: grows the grid and clones a shared tile before returning the cell.
+  Cell& mutableCell(int cx, int cy);
+
+  // Box of allocated tiles (in cells); empty for a fresh grid.
+  CellBox allocatedBox() const;
+  // Tight box of the observed (non-vacuous) cells.
+  CellBox observedBox() const;
+
+  size_t allocatedTiles() const;
+  // Adds this grid's tiles to `seen`; returns the bytes of the tiles not yet in it (for memory
+  // accounting of grids that share tiles).
+  size_t accumulateUniqueTileBytes(std::unordered_set<const Tile*>* seen) const;
+
+ private:
+  void ensureTile(int tx, int ty);
+
+  static const Cell kVacuousCell;
+  double resolution_;
+  int tile_x0_ = 0, tile_y0_ = 0, tiles_w_ = 0, tiles_h_ = 0;
+  std::vector<std::shared_ptr<Tile>> tiles_;
+};
+
+}  // namespace evidential_slam

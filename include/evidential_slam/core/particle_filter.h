@@ -1,0 +1,84 @@
+// Rao-Blackwellized particle filter of evidential FastSLAM (paper §3.3, algorithm.md §5):
+// odometry proposal refined by scan matching, forward-model weights tempered in the log domain,
+// N_eff-selective systematic resampling, maps shared between particles copy-on-write.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+
+class BeamModel;
+class ScanMatcher;
+class WorkerPool;
+
+// One node of a particle's path; children share their ancestors' nodes.
+struct PathNode {
+  Pose2 pose;
+  int step = 0;
+  std::shared_ptr<const PathNode> parent;
+  ~PathNode();  // releases long chains iteratively (no deep recursion)
+};
+
+struct Particle {
+  Pose2 pose;
+  double log_weight = 0.0;             // since the last resampling, normalised so the max is 0
+  double cumulative_log_weight = 0.0;  // over the whole history (paper §5: output selection)
+  EvidentialGrid map;
+  uint64_t map_id = 0;  // equal ids: identical maps (copies not written since)
+  std::shared_ptr<const PathNode> path;
+};
+
+struct FilterStepInfo {
+  bool resampled = false;
+  double effective_sample_size = 0.0;
+  uint64_t rays_bad = 0;
+  uint64_t rays_no_return = 0;
+  double best_conflict_added_bits = 0.0;
+};
+
+class ParticleFilter {
+ public:
+  explicit ParticleFilter(const SlamConfig& config);
+  ~ParticleFilter();
+
+  // First scan: every particle starts at `pose` and integrates the scan.
+  FilterStepInfo initialize(const Pose2& pose, const LaserScan& scan, int step);
+  // Later scans: sample from the motion model for the odometry increment, refine, weight,
+  // integrate, resample if needed.
+  FilterStepInfo update(const Pose2& odometry_increment, const LaserScan& scan, int step);
+
+  const std::vector<Particle>& particles() const { return particles_; }
+  size_t bestIndex() const;
+  const Particle& best() const { return particles_[bestIndex()]; }
+  // Bytes held by distinct map tiles over all particles.
+  size_t mapMemoryBytes() const;
+  // Distinct hypotheses (map, pose) whose scan was integrated at the last update.
+  size_t lastUpdateGroups() const { return last_groups_; }
+
+  // Systematic (low-variance) resampling of normalised weights; returns the chosen parent of
+  // each new particle. Exposed for tests.
+  static std::vector<size_t> systematicResample(const std::vector<double>& weights, double u0);
+
+ private:
+  struct Workspace;
+  void resampleIfNeeded(FilterStepInfo* info);
+
+  SlamConfig config_;
+  std::vector<Particle> particles_;
+  std::unique_ptr<BeamModel> beam_model_;
+  std::unique_ptr<ScanMatcher> matcher_;
+  std::unique_ptr<WorkerPool> pool_;
+  std::vector<std::unique_ptr<Workspace>> workspaces_;  // one per worker thread
+  uint64_t resample_counter_ = 0;
+  uint64_t next_map_id_ = 1;
+  size_t last_groups_ = 0;  // distinct (map, pose) hypotheses integrated at the last update
+};
+
+}  // namespace evidential_slam

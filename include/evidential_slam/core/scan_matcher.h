@@ -1,0 +1,46 @@
+// Refines a particle's sampled pose against that particle's own map, so the proposal follows the
+// laser, not only the odometry (what makes few particles enough, as in GMapping). Two stages:
+// ICP on the nearest occupied cells (captures errors up to search_radius), then a short hill climb
+// on a smooth endpoint score for sub-cell precision.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+
+class ScanMatcher {
+ public:
+  ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor, double resolution);
+
+  // Beam endpoints in the robot frame used for matching (every beam_stride-th usable hit).
+  std::vector<Eigen::Vector2d> endpoints(const LaserScan& scan) const;
+  // Σ over endpoints of the best m̃(o)·exp(-d²/2σ²) over the 3x3 cells around each endpoint.
+  double score(const EvidentialGrid& map, const Pose2& robot_pose,
+               const std::vector<Eigen::Vector2d>& endpoints) const;
+  // Refined pose, or `initial` when too few endpoints find an occupied cell nearby.
+  Pose2 refine(const EvidentialGrid& map, const Pose2& initial,
+               const std::vector<Eigen::Vector2d>& endpoints) const;
+
+ private:
+  // One ICP iteration; false when too few endpoints matched.
+  bool icpStep(const EvidentialGrid& map, const std::vector<Eigen::Vector2d>& endpoints,
+               Pose2* pose) const;
+  Pose2 hillClimb(const EvidentialGrid& map, const Pose2& start,
+                  const std::vector<Eigen::Vector2d>& endpoints) const;
+
+  ScanMatcherConfig config_;
+  SensorModelConfig sensor_;
+  double resolution_;
+  std::vector<CellIndex> spiral_;  // cell offsets within search_radius, nearest first
+  double kernel_scale_;            // kernel_ table entries per squared cell distance
+  std::vector<float> kernel_;      // exp(-d²/2σ²) over squared distance in cells²
+};
+
+}  // namespace evidential_slam

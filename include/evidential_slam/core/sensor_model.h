@@ -1,0 +1,112 @@
+// Evidential laser models (algorithm.md §3-§4): the forward model gives a beam's plausibility
+// pl(z | x, Y) on a particle's map (its weight); the inverse model, derived from it through the
+// generalised Bayesian theorem, gives the scan's local evidential map. Beams are traced once per
+// scan and pose; the same traced cells serve the weight and the map update.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/mass.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+
+// A cell crossed by a beam and the distance of its centre along the beam from the sensor.
+struct RayCell {
+  int x;
+  int y;
+  float distance;
+};
+
+// A beam's slice of TracedScan::cells. `hit`: the beam ends on an obstacle at `range`;
+// otherwise it only clears space up to `range`.
+struct TracedBeam {
+  uint32_t begin;
+  uint32_t end;
+  float range;
+  bool hit;
+};
+
+struct TracedScan {
+  std::vector<RayCell> cells;
+  std::vector<TracedBeam> beams;
+  uint64_t rays_bad = 0;        // NaN / inf / negative ranges (skipped)
+  uint64_t rays_no_return = 0;  // valid == 0
+  void clear();
+};
+
+// Dense scratch for fusing one scan's beams cell by cell (Dempster's rule) before the single
+// conjunctive update of each touched map cell. One per worker thread.
+class ScanAccumulator {
+ public:
+  void reset(const CellIndex& center, int half_size);
+  // Dempster-fuses `m` into the scan's mass of cell (x, y); false if outside the window.
+  bool add(int x, int y, const ScanMass& m);
+  // Applies every touched cell to `map` with the conjunctive rule; returns the external conflict
+  // added (nats, summed over cells).
+  double applyTo(EvidentialGrid* map) const;
+  size_t touched() const { return touched_.size(); }
+
+ private:
+  struct Entry {
+    ScanMass mass;
+    uint32_t stamp = 0;
+  };
+  CellIndex center_;
+  int half_ = 0;
+  int side_ = 0;
+  uint32_t stamp_ = 0;
+  std::vector<Entry> entries_;
+  std::vector<uint32_t> touched_;
+};
+
+class BeamModel {
+ public:
+  BeamModel(const SensorModelConfig& config, double resolution);
+
+  const SensorModelConfig& config() const { return config_; }
+  double resolution() const { return resolution_; }
+
+  // Forward hit window g(δ) = Φ(δ/σ_f + k_f) - Φ(δ/σ_f - k_f), tabulated.
+  float hitWindow(double delta) const;
+  // Inverse-model mass of a cell whose centre lies `s` metres beyond the hit (s < 0: in front).
+  ScanMass inverseMass(double s) const;
+  // Mass of a cell on a beam that only clears space: e = 1 - r, Θ = r.
+  ScanMass clearMass() const;
+
+  // pl(z) of one beam over `cells` (ordered outwards from the sensor), algorithm.md §3.
+  double beamPlausibility(const EvidentialGrid& map, const RayCell* cells, size_t n,
+                          double z) const;
+  // Σ log pl over the hit beams of a traced scan (every `stride`-th beam).
+  double scanLogPlausibility(const EvidentialGrid& map, const TracedScan& traced, int stride) const;
+
+  // Traces every usable ray of `scan` from the sensor pose `sensor_in_map`.
+  void traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const;
+  // Inverse model of a traced scan, fused within the scan by Dempster's rule, into `map` by the
+  // conjunctive rule, each touched cell once. Returns the external conflict added (bits).
+  double integrateScan(const TracedScan& traced, EvidentialGrid* map, ScanAccumulator* scratch) const;
+
+  // Distance past the hit that a hit beam is traced (and its cells updated).
+  double traceBeyondHit() const { return beyond_hit_; }
+
+ private:
+  void traceRay(const Eigen::Vector2d& origin, double angle, double length,
+                std::vector<RayCell>* out) const;
+
+  SensorModelConfig config_;
+  double resolution_;
+  double beyond_hit_;
+  // g(δ) on [-g_half_, g_half_] with step table_step_.
+  double g_half_;
+  double table_step_;
+  std::vector<float> g_table_;
+  // inverse masses for s in [s_min_, s_max_]; in front of s_min_: clearMass(), beyond s_max_: vacuous.
+  double s_min_, s_max_;
+  std::vector<ScanMass> inverse_table_;
+};
+
+}  // namespace evidential_slam

@@ -1,0 +1,81 @@
+// The one SLAM entry point. The offline rawlog runner and the ROS nodelet both feed it
+// (odometry pose, scan) pairs through processScan(); everything else is read back from it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/metrics.h"
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/particle_filter.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+
+struct SlamStats {
+  uint64_t scans_received = 0;     // scans given to processScan
+  uint64_t scans_processed = 0;    // scans that passed the motion gate and were integrated
+  uint64_t scans_rejected = 0;     // scans refused (inconsistent sizes, no usable ray)
+  uint64_t rays_total = 0;         // rays of processed scans
+  uint64_t rays_bad = 0;           // NaN / inf / negative ranges, skipped
+  uint64_t rays_no_return = 0;     // rays flagged as no return
+  uint64_t resamplings = 0;
+};
+
+// What one call of processScan did.
+struct ScanUpdate {
+  bool processed = false;  // passed the motion gate and updated the particles
+  bool rejected = false;   // the scan was unusable; `why` says why
+  std::string why;
+  Pose2 best_pose;         // best particle's pose at this scan (map frame)
+  double external_conflict_added = 0.0;  // sum of EC (bits) this scan added to the best map
+};
+
+class SlamEngine {
+ public:
+  explicit SlamEngine(const SlamConfig& config);
+  ~SlamEngine();
+
+  // `odometry` is the robot's odometry pose (odom frame) at the scan's time: absolute, not an
+  // increment. Scans arriving before the robot moved far enough since the last processed scan
+  // only advance the odometry (motion gate).
+  ScanUpdate processScan(const Pose2& odometry, const LaserScan& scan);
+
+  // Drops all particles, maps and the trajectory (e.g. when time jumps backwards).
+  void reset();
+
+  const SlamConfig& config() const { return config_; }
+  const SlamStats& stats() const { return stats_; }
+  const ParticleFilter& filter() const { return *filter_; }
+
+  // Best particle (highest cumulative weight) and what it carries.
+  const EvidentialGrid& bestMap() const;
+  Pose2 bestPose() const;
+  // The best particle's path, one pose per scan received (poses between processed scans are the
+  // particle's pose at the last processed scan composed with the odometry since then).
+  std::vector<StampedPose> bestTrajectory() const;
+  // map -> odom correction for the latest scan (REP-105): map_T_odom = best ⊕ odometry⁻¹.
+  Pose2 mapToOdom() const;
+
+ private:
+  SlamConfig config_;
+  SlamStats stats_;
+  std::unique_ptr<ParticleFilter> filter_;
+  bool have_last_processed_ = false;
+  Pose2 last_processed_odometry_;
+  Pose2 last_odometry_;
+  // Per scan received: its stamp, the index of the processed step it hangs off and its odometry.
+  struct ScanRecord {
+    double stamp;
+    int step;
+    Pose2 odometry;
+  };
+  std::vector<ScanRecord> scan_records_;
+  std::vector<Pose2> step_odometry_;  // odometry at each processed step
+};
+
+}  // namespace evidential_slam

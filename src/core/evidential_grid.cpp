@@ -1,0 +1,122 @@
+#include "evidential_slam/core/evidential_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace evidential_slam {
+
+const Cell EvidentialGrid::kVacuousCell{};
+
+void CellBox::extend(const CellBox& other) {
+  if (other.empty()) return;
+  if (empty()) {
+    *this = other;
+    return;
+  }
+  min_x = std::min(min_x, other.min_x);
+  min_y = std::min(min_y, other.min_y);
+  max_x = std::max(max_x, other.max_x);
+  max_y = std::max(max_y, other.max_y);
+}
+
+EvidentialGrid::EvidentialGrid(double resolution) : resolution_(resolution) {}
+
+CellIndex EvidentialGrid::worldToCell(double x, double y) const {
+  return {static_cast<int>(std::floor(x / resolution_)), static_cast<int>(std::floor(y / resolution_))};
+}
+
+Eigen::Vector2d EvidentialGrid::cellCenter(const CellIndex& c) const {
+  return {(c.x + 0.5) * resolution_, (c.y + 0.5) * resolution_};
+}
+
+void EvidentialGrid::ensureTile(int tx, int ty) {
+  if (tiles_w_ > 0 && tx >= tile_x0_ && ty >= tile_y0_ && tx < tile_x0_ + tiles_w_ &&
+      ty < tile_y0_ + tiles_h_) {
+    return;
+  }
+  // Grow with a margin so a robot exploring in one direction does not re-index every scan.
+  constexpr int kMargin = 8;
+  int x0 = tx - kMargin, y0 = ty - kMargin, x1 = tx + kMargin, y1 = ty + kMargin;  // inclusive
+  if (tiles_w_ > 0) {
+    x0 = std::min(x0, tile_x0_);
+    y0 = std::min(y0, tile_y0_);
+    x1 = std::max(x1, tile_x0_ + tiles_w_ - 1);
+    y1 = std::max(y1, tile_y0_ + tiles_h_ - 1);
+    // Only grow the side that needs it.
+    if (tx >= tile_x0_) x0 = tile_x0_;
+    if (ty >= tile_y0_) y0 = tile_y0_;
+    if (tx < tile_x0_ + tiles_w_) x1 = tile_x0_ + tiles_w_ - 1;
+    if (ty < tile_y0_ + tiles_h_) y1 = tile_y0_ + tiles_h_ - 1;
+  }
+  const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+  std::vector<std::shared_ptr<Tile>> grown(static_cast<size_t>(w) * h);
+  for (int j = 0; j < tiles_h_; ++j) {
+    for (int i = 0; i < tiles_w_; ++i) {
+      grown[static_cast<size_t>(j + tile_y0_ - y0) * w + (i + tile_x0_ - x0)] =
+          std::move(tiles_[static_cast<size_t>(j) * tiles_w_ + i]);
+    }
+  }
+  tiles_ = std::move(grown);
+  tile_x0_ = x0;
+  tile_y0_ = y0;
+  tiles_w_ = w;
+  tiles_h_ = h;
+}
+
+Cell& EvidentialGrid::mutableCell(int cx, int cy) {
+  const int tx = cx >> kTileBits, ty = cy >> kTileBits;
+  ensureTile(tx, ty);
+  std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];
+  if (!slot) {
+    slot = std::make_shared<Tile>();
+  } else if (slot.use_count() > 1) {
+    // Shared with another grid: clone before writing. (Another thread may release its copy
+    // concurrently; then we clone needlessly, which is harmless.)
+    slot = std::make_shared<Tile>(*slot);
+  }
+  return slot->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
+}
+
+CellBox EvidentialGrid::allocatedBox() const {
+  CellBox box;
+  for (int j = 0; j < tiles_h_; ++j) {
+    for (int i = 0; i < tiles_w_; ++i) {
+      if (!tiles_[static_cast<size_t>(j) * tiles_w_ + i]) continue;
+      const int x = (tile_x0_ + i) * kTileSize, y = (tile_y0_ + j) * kTileSize;
+      box.extend(CellBox{x, y, x + kTileSize - 1, y + kTileSize - 1});
+    }
+  }
+  return box;
+}
+
+CellBox EvidentialGrid::observedBox() const {
+  CellBox box;
+  for (int j = 0; j < tiles_h_; ++j) {
+    for (int i = 0; i < tiles_w_; ++i) {
+      const Tile* t = tiles_[static_cast<size_t>(j) * tiles_w_ + i].get();
+      if (t == nullptr) continue;
+      for (int k = 0; k < kTileCells; ++k) {
+        if (!t->cells[k].observed()) continue;
+        const int x = (tile_x0_ + i) * kTileSize + (k & (kTileSize - 1));
+        const int y = (tile_y0_ + j) * kTileSize + (k >> kTileBits);
+        box.extend(CellBox{x, y, x, y});
+      }
+    }
+  }
+  return box;
+}
+
+size_t EvidentialGrid::allocatedTiles() const {
+  return static_cast<size_t>(std::count_if(tiles_.begin(), tiles_.end(),
+                                           [](const std::shared_ptr<Tile>& t) { return t != nullptr; }));
+}
+
+size_t EvidentialGrid::accumulateUniqueTileBytes(std::unordered_set<const Tile*>* seen) const {
+  size_t bytes = 0;
+  for (const auto& t : tiles_) {
+    if (t && seen->insert(t.get()).second) bytes += sizeof(Tile);
+  }
+  return bytes;
+}
+
+}  // namespace evidential_slam

@@ -1,0 +1,56 @@
+#include "evidential_slam/core/motion_model.h"
+
+#include <cmath>
+
+namespace evidential_slam {
+
+Rng Rng::forStream(uint64_t seed, uint64_t a, uint64_t b) {
+  Rng mix(seed ^ 0x9E3779B97F4A7C15ull);
+  const uint64_t s1 = mix() ^ (a * 0xBF58476D1CE4E5B9ull);
+  Rng mix2(s1);
+  return Rng(mix2() ^ (b * 0x94D049BB133111EBull));
+}
+
+Rng::result_type Rng::operator()() {
+  uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+double Rng::uniform() { return static_cast<double>((*this)() >> 11) * 0x1.0p-53; }
+
+double Rng::gaussian() {
+  // Box-Muller; one value per call keeps the stream simple to reason about.
+  double u1 = uniform();
+  while (u1 <= 0.0) u1 = uniform();
+  const double u2 = uniform();
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+}
+
+Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionModelConfig& c,
+                   Rng* rng) {
+  double trans = std::hypot(increment.x, increment.y);
+  double rot1 = trans > 1e-3 ? std::atan2(increment.y, increment.x) : 0.0;
+  // Driving backwards: model it as a negative translation, not a half turn.
+  if (std::abs(rot1) > M_PI_2) {
+    rot1 = normalizeAngle(rot1 + M_PI);
+    trans = -trans;
+  }
+  const double rot2 = normalizeAngle(increment.theta - rot1);
+  const double t2 = trans * trans, r1 = rot1 * rot1, r2 = rot2 * rot2;
+  const double sd_rot1 = std::sqrt(c.alpha_rot_rot * r1 + c.alpha_rot_trans * t2 +
+                                   c.min_sigma_theta * c.min_sigma_theta);
+  const double sd_trans = std::sqrt(c.alpha_trans_trans * t2 + c.alpha_trans_rot * (r1 + r2) +
+                                    c.min_sigma_xy * c.min_sigma_xy);
+  const double sd_rot2 = std::sqrt(c.alpha_rot_rot * r2 + c.alpha_rot_trans * t2 +
+                                   c.min_sigma_theta * c.min_sigma_theta);
+  const double rot1_hat = rot1 + sd_rot1 * rng->gaussian();
+  const double trans_hat = trans + sd_trans * rng->gaussian();
+  const double rot2_hat = rot2 + sd_rot2 * rng->gaussian();
+  const Pose2 noisy(trans_hat * std::cos(rot1_hat), trans_hat * std::sin(rot1_hat),
+                    rot1_hat + rot2_hat);
+  return previous.compose(noisy);
+}
+
+}  // namespace evidential_slam

@@ -1,0 +1,178 @@
+#include "evidential_slam/core/scan_matcher.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace evidential_slam {
+namespace {
+constexpr double kKernelStepsPerCell2 = 64.0;
+// Cauchy weight scale (m): endpoints far from any matching cell count less.
+constexpr double kRobustScale = 0.1;
+constexpr double kConvergedTranslation = 1e-4;  // m
+constexpr double kConvergedRotation = 1e-4;     // rad
+}  // namespace
+
+ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor,
+                         double resolution)
+    : config_(config), sensor_(sensor), resolution_(resolution) {
+  const int r = static_cast<int>(std::ceil(config_.search_radius / resolution_));
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if (dx * dx + dy * dy <= r * r) spiral_.push_back(CellIndex{dx, dy});
+    }
+  }
+  std::stable_sort(spiral_.begin(), spiral_.end(), [](const CellIndex& a, const CellIndex& b) {
+    return a.x * a.x + a.y * a.y < b.x * b.x + b.y * b.y;
+  });
+  const double sigma_cells = config_.score_sigma / resolution_;
+  kernel_scale_ = kKernelStepsPerCell2;
+  kernel_.resize(static_cast<size_t>(std::ceil(8.0 * kernel_scale_)) + 2);  // up to (2 cells)² · 2
+  for (size_t i = 0; i < kernel_.size(); ++i) {
+    const double d2 = static_cast<double>(i) / kernel_scale_;
+    kernel_[i] = static_cast<float>(std::exp(-0.5 * d2 / (sigma_cells * sigma_cells)));
+  }
+}
+
+std::vector<Eigen::Vector2d> ScanMatcher::endpoints(const LaserScan& scan) const {
+  std::vector<Eigen::Vector2d> pts;
+  const double limit = std::min<double>(sensor_.usable_range,
+                                        scan.max_range > 0.0f ? scan.max_range : sensor_.usable_range);
+  int k = 0;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const float z = scan.ranges[i];
+    if (!scan.valid.empty() && scan.valid[i] == 0) continue;
+    if (!std::isfinite(z) || z < sensor_.min_range || z >= limit) continue;
+    if (k++ % config_.beam_stride != 0) continue;
+    const Eigen::Vector2d in_sensor(z * std::cos(scan.bearings[i]), z * std::sin(scan.bearings[i]));
+    pts.push_back(scan.sensor_pose.transformPoint(in_sensor));
+  }
+  return pts;
+}
+
+double ScanMatcher::score(const EvidentialGrid& map, const Pose2& pose,
+                          const std::vector<Eigen::Vector2d>& pts) const {
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  const double inv_res = 1.0 / resolution_;
+  double total = 0.0;
+  for (const Eigen::Vector2d& p : pts) {
+    const double fx = (pose.x + c * p.x() - s * p.y()) * inv_res;
+    const double fy = (pose.y + s * p.x() + c * p.y()) * inv_res;
+    const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
+    float best = 0.0f;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const double ddy = iy + dy + 0.5 - fy;
+      for (int dx = -1; dx <= 1; ++dx) {
+        const float occ = map.cell(ix + dx, iy + dy).occupied;
+        if (occ <= best) continue;
+        const double ddx = ix + dx + 0.5 - fx;
+        const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
+        best = std::max(best, occ * kernel_[std::min(k, kernel_.size() - 1)]);
+      }
+    }
+    total += best;
+  }
+  return total;
+}
+
+bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<Eigen::Vector2d>& pts,
+                          Pose2* pose) const {
+  const double c = std::cos(pose->theta), s = std::sin(pose->theta);
+  const float threshold = static_cast<float>(config_.occupied_threshold);
+  // Weighted sums for the closed-form 2-D rigid alignment of matched pairs (q -> y).
+  double sw = 0, sqx = 0, sqy = 0, syx = 0, syy = 0;
+  std::vector<Eigen::Vector4d> pairs;  // q.x, q.y, y.x, y.y
+  pairs.reserve(pts.size());
+  std::vector<double> weights;
+  weights.reserve(pts.size());
+  for (const Eigen::Vector2d& p : pts) {
+    const double qx = pose->x + c * p.x() - s * p.y();
+    const double qy = pose->y + s * p.x() + c * p.y();
+    const CellIndex q = map.worldToCell(qx, qy);
+    for (const CellIndex& o : spiral_) {
+      if (map.cell(q.x + o.x, q.y + o.y).occupied < threshold) continue;
+      const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
+      const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
+      const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
+      pairs.emplace_back(qx, qy, yx, yy);
+      weights.push_back(w);
+      sw += w;
+      sqx += w * qx;
+      sqy += w * qy;
+      syx += w * yx;
+      syy += w * yy;
+      break;
+    }
+  }
+  if (pairs.size() < std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
+    return false;
+  }
+  const double mqx = sqx / sw, mqy = sqy / sw, myx = syx / sw, myy = syy / sw;
+  double sin_sum = 0, cos_sum = 0;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const double ax = pairs[i][0] - mqx, ay = pairs[i][1] - mqy;
+    const double bx = pairs[i][2] - myx, by = pairs[i][3] - myy;
+    sin_sum += weights[i] * (ax * by - ay * bx);
+    cos_sum += weights[i] * (ax * bx + ay * by);
+  }
+  const double dtheta = std::atan2(sin_sum, cos_sum);
+  const double dc = std::cos(dtheta), ds = std::sin(dtheta);
+  // World-frame correction: y ≈ R(dθ)(q - mq) + my.
+  const double tx = myx - (dc * mqx - ds * mqy), ty = myy - (ds * mqx + dc * mqy);
+  *pose = Pose2(dc * pose->x - ds * pose->y + tx, ds * pose->x + dc * pose->y + ty,
+                pose->theta + dtheta);
+  return true;
+}
+
+Pose2 ScanMatcher::hillClimb(const EvidentialGrid& map, const Pose2& start,
+                             const std::vector<Eigen::Vector2d>& pts) const {
+  Pose2 current = start;
+  double current_score = score(map, current, pts);
+  double lin = config_.linear_step, ang = config_.angular_step;
+  for (int level = 0; level <= config_.refinements; ++level) {
+    for (int it = 0; it < config_.max_iterations; ++it) {
+      const Pose2 moves[6] = {{current.x + lin, current.y, current.theta},
+                              {current.x - lin, current.y, current.theta},
+                              {current.x, current.y + lin, current.theta},
+                              {current.x, current.y - lin, current.theta},
+                              {current.x, current.y, current.theta + ang},
+                              {current.x, current.y, current.theta - ang}};
+      Pose2 best = current;
+      double best_score = current_score;
+      for (const Pose2& candidate : moves) {
+        const double sc = score(map, candidate, pts);
+        if (sc > best_score) {
+          best_score = sc;
+          best = candidate;
+        }
+      }
+      if (best_score <= current_score) break;
+      current = best;
+      current_score = best_score;
+    }
+    lin *= 0.5;
+    ang *= 0.5;
+  }
+  return current;
+}
+
+Pose2 ScanMatcher::refine(const EvidentialGrid& map, const Pose2& initial,
+                          const std::vector<Eigen::Vector2d>& pts) const {
+  if (pts.empty()) return initial;
+  Pose2 pose = initial;
+  for (int it = 0; it < config_.icp_iterations; ++it) {
+    const Pose2 before = pose;
+    if (!icpStep(map, pts, &pose)) {
+      if (it == 0) return initial;  // the map does not explain this scan (yet)
+      pose = before;
+      break;
+    }
+    const Pose2 change = before.between(pose);
+    if (std::hypot(change.x, change.y) < kConvergedTranslation &&
+        std::abs(change.theta) < kConvergedRotation) {
+      break;
+    }
+  }
+  return config_.max_iterations > 0 ? hillClimb(map, pose, pts) : pose;
+}
+
+}  // namespace evidential_slam

@@ -1,0 +1,112 @@
+#include "evidential_slam/core/slam_engine.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace evidential_slam {
+
+SlamEngine::SlamEngine(const SlamConfig& config) : config_(config) {
+  std::string why;
+  if (!config_.isValid(&why)) throw std::invalid_argument("invalid SLAM configuration: " + why);
+  filter_ = std::make_unique<ParticleFilter>(config_);
+}
+
+SlamEngine::~SlamEngine() = default;
+
+void SlamEngine::reset() {
+  filter_ = std::make_unique<ParticleFilter>(config_);
+  stats_ = SlamStats{};
+  have_last_processed_ = false;
+  scan_records_.clear();
+  step_odometry_.clear();
+}
+
+ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan) {
+  ScanUpdate out;
+  ++stats_.scans_received;
+  last_odometry_ = odometry;
+  const int step = static_cast<int>(step_odometry_.size()) - 1;  // last processed step, -1: none
+  scan_records_.push_back(ScanRecord{scan.stamp, step, odometry});
+
+  stats_.rays_total += scan.ranges.size();
+  size_t usable = 0, no_returns = 0;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const float z = scan.ranges[i];
+    if (!scan.valid.empty() && i < scan.valid.size() && scan.valid[i] == 0) {
+      ++stats_.rays_no_return;
+      ++no_returns;
+    } else if (!std::isfinite(z) || z < 0.0f) {
+      ++stats_.rays_bad;
+    } else {
+      ++usable;
+    }
+  }
+  std::string why;
+  const bool nothing_to_use = usable == 0 && (no_returns == 0 || !config_.sensor.clear_no_return);
+  if (!scan.isConsistent(&why) || nothing_to_use) {
+    if (why.empty()) why = "scan has no usable ray";
+    ++stats_.scans_rejected;
+    out.rejected = true;
+    out.why = why;
+    out.best_pose = bestPose();
+    return out;
+  }
+
+  FilterStepInfo info;
+  if (!have_last_processed_) {
+    info = filter_->initialize(odometry, scan, 0);
+  } else {
+    const Pose2 increment = last_processed_odometry_.between(odometry);
+    const bool moved = std::hypot(increment.x, increment.y) >= config_.update_min_distance ||
+                       std::abs(increment.theta) >= config_.update_min_angle;
+    if (!moved) {
+      out.best_pose = bestPose();
+      return out;
+    }
+    info = filter_->update(increment, scan, static_cast<int>(step_odometry_.size()));
+  }
+  have_last_processed_ = true;
+  last_processed_odometry_ = odometry;
+  step_odometry_.push_back(odometry);
+  scan_records_.back().step = static_cast<int>(step_odometry_.size()) - 1;
+  ++stats_.scans_processed;
+  if (info.resampled) ++stats_.resamplings;
+  out.processed = true;
+  out.external_conflict_added = info.best_conflict_added_bits;
+  out.best_pose = bestPose();
+  return out;
+}
+
+const EvidentialGrid& SlamEngine::bestMap() const {
+  static const EvidentialGrid kEmpty(0.05);
+  if (filter_->particles().empty()) return kEmpty;
+  return filter_->best().map;
+}
+
+Pose2 SlamEngine::bestPose() const {
+  if (!have_last_processed_ || filter_->particles().empty()) return last_odometry_;
+  return filter_->best().pose.compose(last_processed_odometry_.between(last_odometry_));
+}
+
+Pose2 SlamEngine::mapToOdom() const { return bestPose().compose(last_odometry_.inverse()); }
+
+std::vector<StampedPose> SlamEngine::bestTrajectory() const {
+  std::vector<StampedPose> out;
+  out.reserve(scan_records_.size());
+  std::vector<Pose2> step_pose(step_odometry_.size());
+  if (!filter_->particles().empty()) {
+    for (const PathNode* n = filter_->best().path.get(); n != nullptr; n = n->parent.get()) {
+      if (n->step >= 0 && static_cast<size_t>(n->step) < step_pose.size()) step_pose[n->step] = n->pose;
+    }
+  }
+  for (const ScanRecord& r : scan_records_) {
+    Pose2 pose = r.odometry;  // before the first processed scan the map frame is the odom frame
+    if (r.step >= 0) {
+      pose = step_pose[r.step].compose(step_odometry_[r.step].between(r.odometry));
+    }
+    out.push_back(StampedPose{r.stamp, pose});
+  }
+  return out;
+}
+
+}  // namespace evidential_slam

@@ -1,0 +1,143 @@
+// Tests of parameter validation (config.h) and of LaserScan::isConsistent (laser_scan.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/laser_scan.h"
+
+namespace evidential_slam {
+namespace {
+
+// The shipped defaults are valid, component by component and as a whole.
+TEST(ConfigTest, DefaultsAreValid) {
+  std::string why;
+  EXPECT_TRUE(SlamConfig().isValid(&why)) << why;
+  EXPECT_TRUE(SensorModelConfig().isValid(&why)) << why;
+  EXPECT_TRUE(MotionModelConfig().isValid(&why)) << why;
+  EXPECT_TRUE(ScanMatcherConfig().isValid(&why)) << why;
+}
+
+// The defaults are the documented ones (algorithm.md §3-§5; paper: K = 100).
+TEST(ConfigTest, DefaultValues) {
+  const SlamConfig c;
+  EXPECT_EQ(c.particles, 100);
+  EXPECT_DOUBLE_EQ(c.resolution, 0.05);
+  EXPECT_DOUBLE_EQ(c.update_min_distance, 0.5);
+  EXPECT_NEAR(c.update_min_angle, 0.17453292519943295, 1e-12);  // 10° = π/18
+  EXPECT_DOUBLE_EQ(c.likelihood_gamma, 3.0);
+  EXPECT_DOUBLE_EQ(c.resample_threshold, 0.5);
+  EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
+  EXPECT_DOUBLE_EQ(c.sensor.prior_occupied, 0.4);
+  EXPECT_DOUBLE_EQ(c.sensor.hit_sigma, 0.025);
+  EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.025);
+  EXPECT_DOUBLE_EQ(c.sensor.forward_window, 3.0);
+  EXPECT_DOUBLE_EQ(c.sensor.free_gap, 3.0);
+}
+
+// Each invalid value makes the whole config invalid and says why.
+void expectInvalid(const SlamConfig& c, const char* what) {
+  std::string why;
+  EXPECT_FALSE(c.isValid(&why)) << what;
+  EXPECT_FALSE(why.empty()) << what;
+}
+
+TEST(ConfigTest, InvalidValuesAreRejected) {
+  SlamConfig c;
+  c.particles = 0;
+  expectInvalid(c, "particles = 0");
+  c = SlamConfig();
+  c.particles = -5;
+  expectInvalid(c, "particles = -5");
+  c = SlamConfig();
+  c.resolution = -0.05;
+  expectInvalid(c, "resolution < 0");
+  c = SlamConfig();
+  c.resolution = 0.0;
+  expectInvalid(c, "resolution = 0");
+  c = SlamConfig();
+  c.sensor.random_weight = 1.0;
+  expectInvalid(c, "random_weight = 1");
+  c = SlamConfig();
+  c.sensor.random_weight = 1.5;
+  expectInvalid(c, "random_weight = 1.5");
+  c = SlamConfig();
+  c.sensor.random_weight = -0.1;
+  expectInvalid(c, "random_weight < 0");
+  c = SlamConfig();
+  c.sensor.prior_occupied = 0.0;
+  expectInvalid(c, "prior_occupied = 0");
+  c = SlamConfig();
+  c.sensor.prior_occupied = 1.0;
+  expectInvalid(c, "prior_occupied = 1");
+  c = SlamConfig();
+  c.sensor.prior_occupied = -0.2;
+  expectInvalid(c, "prior_occupied < 0");
+  c = SlamConfig();
+  c.sensor.prior_occupied = 1.2;
+  expectInvalid(c, "prior_occupied > 1");
+}
+
+// Further values that would break the models (a zero or negative σ divides by zero, NaN
+// propagates, negative motion noise variances): not in the minimal list but equally invalid.
+TEST(ConfigTest, DegenerateValuesAreRejected) {
+  SlamConfig c;
+  c.resolution = std::nan("");
+  expectInvalid(c, "resolution NaN");
+  c = SlamConfig();
+  c.sensor.hit_sigma = 0.0;
+  expectInvalid(c, "hit_sigma = 0");
+  c = SlamConfig();
+  c.sensor.forward_sigma = -0.01;
+  expectInvalid(c, "forward_sigma < 0");
+  c = SlamConfig();
+  c.motion.alpha_trans_trans = -0.1;
+  expectInvalid(c, "alpha_trans_trans < 0");
+  MotionModelConfig m;
+  m.alpha_rot_rot = -0.1;
+  std::string why;
+  EXPECT_FALSE(m.isValid(&why));
+  EXPECT_FALSE(why.empty());
+}
+
+// The component configs reject their own invalid values.
+TEST(ConfigTest, ComponentValidation) {
+  std::string why;
+  SensorModelConfig s;
+  s.random_weight = 1.0;
+  EXPECT_FALSE(s.isValid(&why));
+  EXPECT_FALSE(why.empty());
+  why.clear();
+  s = SensorModelConfig();
+  s.prior_occupied = 1.0;
+  EXPECT_FALSE(s.isValid(&why));
+  EXPECT_FALSE(why.empty());
+}
+
+// A scan whose ranges / bearings / valid arrays agree in size is consistent; any mismatch is not.
+TEST(LaserScanTest, Consistency) {
+  LaserScan scan;
+  scan.max_range = 30.0f;
+  scan.ranges = {1.0f, 2.0f, 3.0f};
+  scan.bearings = {-0.1f, 0.0f, 0.1f};
+  scan.valid = {1, 1, 0};
+  std::string why;
+  EXPECT_TRUE(scan.isConsistent(&why)) << why;
+  EXPECT_EQ(scan.size(), 3u);
+
+  LaserScan short_bearings = scan;
+  short_bearings.bearings.pop_back();
+  why.clear();
+  EXPECT_FALSE(short_bearings.isConsistent(&why));
+  EXPECT_FALSE(why.empty());
+
+  LaserScan short_valid = scan;
+  short_valid.valid.pop_back();
+  why.clear();
+  EXPECT_FALSE(short_valid.isConsistent(&why));
+  EXPECT_FALSE(why.empty());
+}
+
+}  // namespace
+}  // namespace evidential_slam

@@ -1,0 +1,293 @@
+// Tests of the growing, tile-sharing evidential grid (evidential_grid.h): vacuous default,
+// coordinates, growth in every direction, copy-on-write between copies, boxes and memory counting.
+// Tiles are 32 x 32 cells (kTileBits = 5): tile t covers cells [32 t, 32 t + 31].
+#include <gtest/gtest.h>
+
+#include <unordered_set>
+
+#include "evidential_slam/core/evidential_grid.h"
+
+namespace evidential_slam {
+namespace {
+
+// A recognisable non-vacuous cell.
+Cell makeCell(float occupied, float free, float lambda) {
+  Cell c;
+  c.occupied = occupied;
+  c.free = free;
+  c.lambda = lambda;
+  return c;
+}
+
+void expectCell(const Cell& c, float occupied, float free, float lambda) {
+  EXPECT_EQ(c.occupied, occupied);
+  EXPECT_EQ(c.free, free);
+  EXPECT_EQ(c.lambda, lambda);
+}
+
+void expectVacuous(const Cell& c) {
+  expectCell(c, 0.0f, 0.0f, 0.0f);
+  EXPECT_FALSE(c.observed());
+}
+
+// Fresh grid: every cell, anywhere (including negative indices), reads vacuous; nothing allocated.
+TEST(EvidentialGridTest, FreshGridIsVacuous) {
+  const EvidentialGrid g(0.05);
+  EXPECT_DOUBLE_EQ(g.resolution(), 0.05);
+  expectVacuous(g.cell(0, 0));
+  expectVacuous(g.cell(-1, -1));
+  expectVacuous(g.cell(123456, -98765));
+  expectVacuous(g.cell(CellIndex{7, 3}));
+  EXPECT_TRUE(g.allocatedBox().empty());
+  EXPECT_TRUE(g.observedBox().empty());
+  EXPECT_EQ(g.allocatedTiles(), 0u);
+}
+
+// Cell (i, j) covers [i res, (i+1) res): at res 0.05, x = 0.051 -> 1, 0.049 -> 0, -0.001 -> -1,
+// -0.049 -> -1, -0.051 -> -2 (floor, not truncation). Centre of (-1, 1) = (-0.025, 0.075).
+TEST(EvidentialGridTest, WorldToCellAndCellCenter) {
+  const EvidentialGrid g(0.05);
+  EXPECT_EQ(g.worldToCell(0.051, 0.049), (CellIndex{1, 0}));
+  EXPECT_EQ(g.worldToCell(-0.001, -0.049), (CellIndex{-1, -1}));
+  EXPECT_EQ(g.worldToCell(-0.051, 0.0001), (CellIndex{-2, 0}));
+  EXPECT_EQ(g.worldToCell(500.01, -500.01), (CellIndex{10000, -10001}));
+  const Eigen::Vector2d c = g.cellCenter(CellIndex{-1, 1});
+  EXPECT_NEAR(c.x(), -0.025, 1e-12);
+  EXPECT_NEAR(c.y(), 0.075, 1e-12);
+  const Eigen::Vector2d d = g.cellCenter(g.worldToCell(3.01, -2.01));  // cell (60, -41)
+  EXPECT_NEAR(d.x(), 3.025, 1e-12);
+  EXPECT_NEAR(d.y(), -2.025, 1e-12);
+  // Another resolution: 0.1 m, x = 0.25 -> 2, y = -0.25 -> -3.
+  const EvidentialGrid h(0.1);
+  EXPECT_EQ(h.worldToCell(0.25, -0.25), (CellIndex{2, -3}));
+}
+
+// Writes through mutableCell persist and do not touch neighbours.
+TEST(EvidentialGridTest, MutableCellWritesPersist) {
+  EvidentialGrid g(0.05);
+  g.mutableCell(3, 4) = makeCell(0.5f, 0.25f, 0.125f);
+  g.mutableCell(-3, -4) = makeCell(0.75f, 0.0f, 1.0f);
+  expectCell(g.cell(3, 4), 0.5f, 0.25f, 0.125f);
+  expectCell(g.cell(CellIndex{3, 4}), 0.5f, 0.25f, 0.125f);
+  expectCell(g.cell(-3, -4), 0.75f, 0.0f, 1.0f);
+  expectVacuous(g.cell(4, 4));
+  expectVacuous(g.cell(3, 5));
+  expectVacuous(g.cell(-4, -4));
+  // Modify in place through the returned reference.
+  g.mutableCell(3, 4).lambda = 2.0f;
+  expectCell(g.cell(3, 4), 0.5f, 0.25f, 2.0f);
+}
+
+// The grid grows towards negative and positive coordinates (±500 m = ±10000 cells at 0.05 m)
+// without losing what was written before; cells in between stay vacuous.
+TEST(EvidentialGridTest, GrowsInAllDirectionsKeepingCells) {
+  EvidentialGrid g(0.05);
+  g.mutableCell(0, 0) = makeCell(0.1f, 0.2f, 0.0f);
+  g.mutableCell(31, 31) = makeCell(0.3f, 0.0f, 0.0f);
+  g.mutableCell(-10000, -10000) = makeCell(0.4f, 0.1f, 0.5f);
+  expectCell(g.cell(0, 0), 0.1f, 0.2f, 0.0f);
+  g.mutableCell(10000, 10000) = makeCell(0.6f, 0.2f, 1.5f);
+  g.mutableCell(-10000, 10000) = makeCell(0.7f, 0.0f, 0.0f);
+  g.mutableCell(10000, -10000) = makeCell(0.0f, 0.9f, 0.0f);
+  const CellIndex far = g.worldToCell(-500.0 + 1e-6, 499.99);
+  g.mutableCell(far.x, far.y).free = 0.5f;
+
+  expectCell(g.cell(0, 0), 0.1f, 0.2f, 0.0f);
+  expectCell(g.cell(31, 31), 0.3f, 0.0f, 0.0f);
+  expectCell(g.cell(-10000, -10000), 0.4f, 0.1f, 0.5f);
+  expectCell(g.cell(10000, 10000), 0.6f, 0.2f, 1.5f);
+  expectCell(g.cell(-10000, 10000), 0.7f, 0.0f, 0.0f);
+  expectCell(g.cell(10000, -10000), 0.0f, 0.9f, 0.0f);
+  EXPECT_EQ(g.cell(far).free, 0.5f);
+  expectVacuous(g.cell(5000, -5000));
+  expectVacuous(g.cell(-1, -1));
+  expectVacuous(g.cell(10001, 10000));
+
+  const CellBox box = g.observedBox();
+  EXPECT_EQ(box.min_x, -10000);
+  EXPECT_EQ(box.max_x, 10000);
+  EXPECT_EQ(box.min_y, -10000);
+  EXPECT_EQ(box.max_y, 10000);
+}
+
+// Growth one tile at a time in each direction (the resize paths), checking earlier cells each time.
+TEST(EvidentialGridTest, StepwiseGrowthKeepsCells) {
+  EvidentialGrid g(0.05);
+  for (int k = 0; k < 20; ++k) {
+    const int d = 37 * k;
+    g.mutableCell(d, -d) = makeCell(0.01f * k, 0.0f, 0.0f);
+    g.mutableCell(-d - 1, d + 1) = makeCell(0.0f, 0.01f * k, 0.0f);
+    for (int j = 0; j <= k; ++j) {
+      const int e = 37 * j;
+      EXPECT_EQ(g.cell(e, -e).occupied, 0.01f * j) << "k=" << k << " j=" << j;
+      EXPECT_EQ(g.cell(-e - 1, e + 1).free, 0.01f * j) << "k=" << k << " j=" << j;
+    }
+  }
+}
+
+// allocatedBox is the box of whole tiles: a write to (0,0) allocates tile (0,0) = cells [0,31]^2;
+// a further write to (-1, 40) adds tile (-1, 1) = x [-32,-1], y [32,63]; their bounding box is
+// x [-32, 31], y [0, 63]. observedBox is tight around the two written cells: x [-1,0], y [0,40].
+TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
+  EvidentialGrid g(0.05);
+  g.mutableCell(0, 0) = makeCell(0.5f, 0.0f, 0.0f);
+  CellBox a = g.allocatedBox();
+  EXPECT_EQ(a.min_x, 0);
+  EXPECT_EQ(a.max_x, 31);
+  EXPECT_EQ(a.min_y, 0);
+  EXPECT_EQ(a.max_y, 31);
+  EXPECT_EQ(a.width(), 32);
+  EXPECT_EQ(g.allocatedTiles(), 1u);
+
+  g.mutableCell(-1, 40) = makeCell(0.0f, 0.5f, 0.0f);
+  a = g.allocatedBox();
+  EXPECT_EQ(a.min_x, -32);
+  EXPECT_EQ(a.max_x, 31);
+  EXPECT_EQ(a.min_y, 0);
+  EXPECT_EQ(a.max_y, 63);
+  EXPECT_EQ(g.allocatedTiles(), 2u);
+
+  const CellBox o = g.observedBox();
+  EXPECT_EQ(o.min_x, -1);
+  EXPECT_EQ(o.max_x, 0);
+  EXPECT_EQ(o.min_y, 0);
+  EXPECT_EQ(o.max_y, 40);
+  EXPECT_EQ(o.width(), 2);
+  EXPECT_EQ(o.height(), 41);
+}
+
+// mutableCell without writing allocates but does not observe: a cell that only got a lambda
+// counts as observed (EC is evidence), a merely touched cell does not.
+TEST(EvidentialGridTest, ObservedBoxIgnoresTouchedVacuousCells) {
+  EvidentialGrid g(0.05);
+  g.mutableCell(5, 6) = makeCell(0.2f, 0.0f, 0.0f);
+  g.mutableCell(200, 300);  // allocate only
+  CellBox o = g.observedBox();
+  EXPECT_EQ(o.min_x, 5);
+  EXPECT_EQ(o.max_x, 5);
+  EXPECT_EQ(o.min_y, 6);
+  EXPECT_EQ(o.max_y, 6);
+  g.mutableCell(-7, 2).lambda = 0.5f;
+  o = g.observedBox();
+  EXPECT_EQ(o.min_x, -7);
+  EXPECT_EQ(o.max_x, 5);
+  EXPECT_EQ(o.min_y, 2);
+  EXPECT_EQ(o.max_y, 6);
+}
+
+// CellBox helpers: empty box has width/height 0; extend gives the union.
+TEST(CellBoxTest, ExtendAndSize) {
+  CellBox b;
+  EXPECT_TRUE(b.empty());
+  EXPECT_EQ(b.width(), 0);
+  CellBox c{2, 3, 4, 8};  // x [2,4], y [3,8]
+  EXPECT_EQ(c.width(), 3);
+  EXPECT_EQ(c.height(), 6);
+  b.extend(c);  // extending an empty box gives the other box
+  EXPECT_EQ(b.min_x, 2);
+  EXPECT_EQ(b.min_y, 3);
+  EXPECT_EQ(b.max_x, 4);
+  EXPECT_EQ(b.max_y, 8);
+  b.extend(CellBox{-1, 5, 0, 10});
+  EXPECT_EQ(b.min_x, -1);
+  EXPECT_EQ(b.min_y, 3);
+  EXPECT_EQ(b.max_x, 4);
+  EXPECT_EQ(b.max_y, 10);
+  b.extend(CellBox{});  // extending by an empty box changes nothing
+  EXPECT_EQ(b.min_x, -1);
+  EXPECT_EQ(b.max_y, 10);
+}
+
+// Copy-on-write: after `b = a` (copy construction), a write to b leaves a unchanged, and a write
+// to a leaves b unchanged; unwritten cells of the shared tile stay equal in both.
+TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
+  EvidentialGrid a(0.05);
+  a.mutableCell(1, 1) = makeCell(0.5f, 0.0f, 0.0f);
+  a.mutableCell(2, 1) = makeCell(0.0f, 0.5f, 0.0f);
+  a.mutableCell(-40, 70) = makeCell(0.25f, 0.25f, 0.0f);
+
+  EvidentialGrid b = a;
+  expectCell(b.cell(1, 1), 0.5f, 0.0f, 0.0f);
+  expectCell(b.cell(-40, 70), 0.25f, 0.25f, 0.0f);
+
+  b.mutableCell(1, 1) = makeCell(0.9f, 0.0f, 3.0f);  // same tile as (2,1), shared
+  expectCell(a.cell(1, 1), 0.5f, 0.0f, 0.0f);        // a unchanged
+  expectCell(b.cell(1, 1), 0.9f, 0.0f, 3.0f);
+  expectCell(b.cell(2, 1), 0.0f, 0.5f, 0.0f);  // the clone kept the rest of the tile
+  expectCell(a.cell(2, 1), 0.0f, 0.5f, 0.0f);
+
+  a.mutableCell(-40, 70) = makeCell(0.0f, 1.0f, 0.0f);  // vice versa, on another shared tile
+  expectCell(b.cell(-40, 70), 0.25f, 0.25f, 0.0f);      // b unchanged
+  expectCell(a.cell(-40, 70), 0.0f, 1.0f, 0.0f);
+
+  a.mutableCell(2, 1).lambda = 7.0f;  // a's first write to tile (0,0) after b cloned it
+  EXPECT_EQ(b.cell(2, 1).lambda, 0.0f);
+  EXPECT_EQ(b.cell(1, 1).occupied, 0.9f);
+  EXPECT_EQ(a.cell(1, 1).occupied, 0.5f);
+}
+
+// Copy-on-write with copy assignment into an existing grid, with growth after the copy, and among
+// three "particles" sharing one map: a write by one never shows up in the others.
+TEST(EvidentialGridTest, CopyOnWriteAssignmentGrowthAndThreeParticles) {
+  EvidentialGrid a(0.05);
+  a.mutableCell(0, 0) = makeCell(0.5f, 0.0f, 0.0f);
+  EvidentialGrid b(0.05);
+  b.mutableCell(100, 100) = makeCell(0.1f, 0.1f, 0.1f);
+  b = a;
+  expectCell(b.cell(0, 0), 0.5f, 0.0f, 0.0f);
+  expectVacuous(b.cell(100, 100));  // b's old content is gone
+
+  EvidentialGrid c = b;
+  // b grows far away (the tile array is re-laid out) and writes into the shared tile.
+  b.mutableCell(-3000, 2500) = makeCell(0.3f, 0.3f, 0.3f);
+  b.mutableCell(0, 0).occupied = 0.8f;
+  expectCell(a.cell(0, 0), 0.5f, 0.0f, 0.0f);
+  expectCell(c.cell(0, 0), 0.5f, 0.0f, 0.0f);
+  expectVacuous(a.cell(-3000, 2500));
+  expectVacuous(c.cell(-3000, 2500));
+  EXPECT_EQ(b.cell(0, 0).occupied, 0.8f);
+  expectCell(b.cell(-3000, 2500), 0.3f, 0.3f, 0.3f);
+
+  // c writes its copy; a and b keep theirs.
+  c.mutableCell(0, 0).free = 0.4f;
+  EXPECT_EQ(a.cell(0, 0).free, 0.0f);
+  EXPECT_EQ(b.cell(0, 0).free, 0.0f);
+  EXPECT_EQ(c.cell(0, 0).free, 0.4f);
+  EXPECT_EQ(c.cell(0, 0).occupied, 0.5f);
+}
+
+// accumulateUniqueTileBytes counts each distinct tile once: with per-tile size P (measured on a
+// one-tile grid, at least sizeof(Tile)), a 3-tile grid is 3P, an unmodified copy adds 0, and a
+// copy that wrote one tile adds exactly one cloned tile, P.
+TEST(EvidentialGridTest, AccumulateUniqueTileBytesCountsSharedTilesOnce) {
+  EvidentialGrid one(0.05);
+  one.mutableCell(0, 0).occupied = 0.5f;
+  std::unordered_set<const EvidentialGrid::Tile*> seen_one;
+  const size_t per_tile = one.accumulateUniqueTileBytes(&seen_one);
+  EXPECT_GE(per_tile, sizeof(EvidentialGrid::Tile));
+  EXPECT_EQ(one.accumulateUniqueTileBytes(&seen_one), 0u);  // already seen
+
+  EvidentialGrid a(0.05);
+  a.mutableCell(0, 0).occupied = 0.5f;    // tile (0,0)
+  a.mutableCell(40, 0).occupied = 0.5f;   // tile (1,0)
+  a.mutableCell(-5, -5).occupied = 0.5f;  // tile (-1,-1)
+  EXPECT_EQ(a.allocatedTiles(), 3u);
+  EvidentialGrid b = a;
+  EvidentialGrid c = a;
+  EXPECT_EQ(b.allocatedTiles(), 3u);
+
+  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  EXPECT_EQ(a.accumulateUniqueTileBytes(&seen), 3 * per_tile);
+  EXPECT_EQ(b.accumulateUniqueTileBytes(&seen), 0u);
+  EXPECT_EQ(c.accumulateUniqueTileBytes(&seen), 0u);
+
+  b.mutableCell(41, 1).free = 0.25f;  // clones tile (1,0) only
+  std::unordered_set<const EvidentialGrid::Tile*> seen2;
+  EXPECT_EQ(a.accumulateUniqueTileBytes(&seen2), 3 * per_tile);
+  EXPECT_EQ(b.accumulateUniqueTileBytes(&seen2), per_tile);
+  EXPECT_EQ(c.accumulateUniqueTileBytes(&seen2), 0u);
+  EXPECT_EQ(seen2.size(), 4u);
+}
+
+}  // namespace
+}  // namespace evidential_slam

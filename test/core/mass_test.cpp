@@ -1,0 +1,363 @@
+// Tests of the cell algebra (mass.h): conjunctive and Dempster's rule, scan-mass fusion, the
+// normalised cell storage of algorithm.md §2.3 and its long-run invariants.
+// All expected numbers are hand-computed from algorithm.md §1 and §2.3; the arithmetic is in the
+// comments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "evidential_slam/core/mass.h"
+#include "evidential_slam/core/measures.h"
+
+namespace evidential_slam {
+namespace {
+
+constexpr double kExact = 1e-12;  // double arithmetic on Mass
+constexpr double kFloat = 1e-6;   // values stored as float in Cell / ScanMass
+
+void expectMass(const Mass& m, double conflict, double occupied, double free, double unknown,
+                double tol) {
+  EXPECT_NEAR(m.conflict, conflict, tol);
+  EXPECT_NEAR(m.occupied, occupied, tol);
+  EXPECT_NEAR(m.free, free, tol);
+  EXPECT_NEAR(m.unknown, unknown, tol);
+}
+
+double sum(const Mass& m) { return m.conflict + m.occupied + m.free + m.unknown; }
+
+// --- Mass construction -----------------------------------------------------------------------
+
+// Mass::make puts the remainder on Θ: 1 - 0.1 - 0.2 - 0.3 = 0.4. vacuous() is m(Θ) = 1.
+TEST(MassTest, MakeAndVacuous) {
+  expectMass(Mass::make(0.1, 0.2, 0.3), 0.1, 0.2, 0.3, 0.4, kExact);
+  expectMass(Mass::vacuous(), 0.0, 0.0, 0.0, 1.0, 0.0);
+}
+
+// --- Conjunctive rule (paper eq. 3/9) ------------------------------------------------------------
+
+// m1 = (∅0, o0.6, e0.1, Θ0.3), m2 = (∅0, o0.2, e0.5, Θ0.3):
+//   o' = 0.6*0.2 + 0.6*0.3 + 0.3*0.2 = 0.12 + 0.18 + 0.06 = 0.36
+//   e' = 0.1*0.5 + 0.1*0.3 + 0.3*0.5 = 0.05 + 0.03 + 0.15 = 0.23
+//   Θ' = 0.3*0.3 = 0.09
+//   ∅' = 0.6*0.5 + 0.1*0.2 = 0.30 + 0.02 = 0.32  (= 1 - 0.36 - 0.23 - 0.09)
+TEST(MassTest, ConjunctiveWorkedExample) {
+  const Mass m1 = Mass::make(0.0, 0.6, 0.1);
+  const Mass m2 = Mass::make(0.0, 0.2, 0.5);
+  const Mass c = combineConjunctive(m1, m2);
+  expectMass(c, 0.32, 0.36, 0.23, 0.09, kExact);
+  EXPECT_NEAR(sum(c), 1.0, kExact);
+}
+
+// The conjunctive rule is commutative.
+TEST(MassTest, ConjunctiveIsCommutative) {
+  const Mass m1 = Mass::make(0.0, 0.6, 0.1);
+  const Mass m2 = Mass::make(0.0, 0.2, 0.5);
+  const Mass a = combineConjunctive(m1, m2);
+  const Mass b = combineConjunctive(m2, m1);
+  expectMass(a, b.conflict, b.occupied, b.free, b.unknown, kExact);
+}
+
+// Conflict already present is kept and new conflict is added:
+// m = (∅0.2, o0.4, e0.1, Θ0.3), s = (∅0, o0.5, e0.2, Θ0.3):
+//   o' = 0.4*0.5 + 0.4*0.3 + 0.3*0.5 = 0.2 + 0.12 + 0.15 = 0.47
+//   e' = 0.1*0.2 + 0.1*0.3 + 0.3*0.2 = 0.02 + 0.03 + 0.06 = 0.11
+//   Θ' = 0.3*0.3 = 0.09
+//   ∅' = 0.2*1 + 0.4*0.2 + 0.1*0.5 = 0.2 + 0.08 + 0.05 = 0.33
+TEST(MassTest, ConjunctiveKeepsExistingConflict) {
+  const Mass m = Mass::make(0.2, 0.4, 0.1);
+  const Mass s = Mass::make(0.0, 0.5, 0.2);
+  expectMass(combineConjunctive(m, s), 0.33, 0.47, 0.11, 0.09, kExact);
+}
+
+// The vacuous mass is the neutral element of the conjunctive rule (also for a mass with ∅ > 0).
+TEST(MassTest, VacuousIsNeutralForConjunctive) {
+  const Mass m = Mass::make(0.2, 0.4, 0.1);
+  expectMass(combineConjunctive(Mass::vacuous(), m), 0.2, 0.4, 0.1, 0.3, kExact);
+  expectMass(combineConjunctive(m, Mass::vacuous()), 0.2, 0.4, 0.1, 0.3, kExact);
+}
+
+// Total conflict: certain occupied with certain free puts everything on ∅ (1*1 = 1).
+TEST(MassTest, ConjunctiveTotalConflict) {
+  const Mass occ = Mass::make(0.0, 1.0, 0.0);
+  const Mass fre = Mass::make(0.0, 0.0, 1.0);
+  expectMass(combineConjunctive(occ, fre), 1.0, 0.0, 0.0, 0.0, kExact);
+}
+
+// --- Dempster's rule -------------------------------------------------------------------------
+
+// Same example normalised by 1 - ∅' = 0.68:
+//   o = 0.36/0.68 = 0.52941176470588, e = 0.23/0.68 = 0.33823529411765,
+//   Θ = 0.09/0.68 = 0.13235294117647
+TEST(MassTest, DempsterWorkedExample) {
+  const Mass m1 = Mass::make(0.0, 0.6, 0.1);
+  const Mass m2 = Mass::make(0.0, 0.2, 0.5);
+  const Mass d = combineDempster(m1, m2);
+  expectMass(d, 0.0, 0.52941176470588, 0.33823529411765, 0.13235294117647, 1e-12);
+  EXPECT_NEAR(sum(d), 1.0, kExact);
+}
+
+// Vacuous is neutral for Dempster's rule as well.
+TEST(MassTest, VacuousIsNeutralForDempster) {
+  const Mass m = Mass::make(0.0, 0.6, 0.1);
+  expectMass(combineDempster(Mass::vacuous(), m), 0.0, 0.6, 0.1, 0.3, kExact);
+  expectMass(combineDempster(m, Mass::vacuous()), 0.0, 0.6, 0.1, 0.3, kExact);
+}
+
+// Total conflict: documented (mass.h) to return the vacuous mass, never NaN.
+TEST(MassTest, DempsterTotalConflictIsVacuous) {
+  const Mass occ = Mass::make(0.0, 1.0, 0.0);
+  const Mass fre = Mass::make(0.0, 0.0, 1.0);
+  const Mass d = combineDempster(occ, fre);
+  expectMass(d, 0.0, 0.0, 0.0, 1.0, kExact);
+}
+
+// --- fuseDempster on ScanMass ------------------------------------------------------------------
+
+// hit (o0.63, Θ0.37) with miss (e0.8, Θ0.2):
+//   o = 0.63*0.2 = 0.126, e = 0.37*0.8 = 0.296, Θ = 0.37*0.2 = 0.074, K = 0.63*0.8 = 0.504
+//   normalised by 0.496: o = 0.25403225806, e = 0.59677419355, Θ = 0.14919354839
+TEST(MassTest, FuseDempsterHitAndMiss) {
+  const ScanMass hit{0.63f, 0.0f};
+  const ScanMass miss{0.0f, 0.8f};
+  const ScanMass f = fuseDempster(hit, miss);
+  EXPECT_NEAR(f.occupied, 0.25403225806, kFloat);
+  EXPECT_NEAR(f.free, 0.59677419355, kFloat);
+  EXPECT_NEAR(f.unknown(), 0.14919354839, kFloat);
+  const ScanMass g = fuseDempster(miss, hit);  // commutative
+  EXPECT_NEAR(g.occupied, 0.25403225806, kFloat);
+  EXPECT_NEAR(g.free, 0.59677419355, kFloat);
+}
+
+// The m1/m2 worked example on ScanMass: o = 0.36/0.68, e = 0.23/0.68.
+TEST(MassTest, FuseDempsterWorkedExample) {
+  const ScanMass f = fuseDempster(ScanMass{0.6f, 0.1f}, ScanMass{0.2f, 0.5f});
+  EXPECT_NEAR(f.occupied, 0.52941176470588, kFloat);
+  EXPECT_NEAR(f.free, 0.33823529411765, kFloat);
+  EXPECT_NEAR(f.unknown(), 0.13235294117647, kFloat);
+}
+
+// Two agreeing misses: e = 0.8*0.8 + 0.8*0.2 + 0.2*0.8 = 0.64 + 0.16 + 0.16 = 0.96, Θ = 0.04,
+// K = 0.
+TEST(MassTest, FuseDempsterAgreeingEvidence) {
+  const ScanMass f = fuseDempster(ScanMass{0.0f, 0.8f}, ScanMass{0.0f, 0.8f});
+  EXPECT_NEAR(f.occupied, 0.0, kFloat);
+  EXPECT_NEAR(f.free, 0.96, kFloat);
+  EXPECT_NEAR(f.unknown(), 0.04, kFloat);
+  // A vacuous scan mass changes nothing.
+  const ScanMass v = fuseDempster(ScanMass{}, ScanMass{0.3f, 0.2f});
+  EXPECT_NEAR(v.occupied, 0.3, kFloat);
+  EXPECT_NEAR(v.free, 0.2, kFloat);
+}
+
+// --- Cell storage (§2.3) ----------------------------------------------------------------------
+
+// A default cell is vacuous: all zeros, not observed, toMass() = (∅0, o0, e0, Θ1).
+TEST(CellTest, DefaultIsVacuous) {
+  const Cell c;
+  EXPECT_FALSE(c.observed());
+  EXPECT_EQ(c.unknown(), 1.0f);
+  expectMass(c.toMass(), 0.0, 0.0, 0.0, 1.0, 0.0);
+}
+
+// fromMass stores m̃ = m/(1 - m(∅)) and λ = -ln(1 - m(∅)):
+// (∅0.32, o0.36, e0.23, Θ0.09): m̃(o) = 0.36/0.68 = 0.52941176, m̃(e) = 0.23/0.68 = 0.33823529,
+// λ = -ln(0.68) = 0.38566248081198
+TEST(CellTest, FromMassStoresNormalisedPairAndLambda) {
+  const Cell c = Cell::fromMass(Mass::make(0.32, 0.36, 0.23));
+  EXPECT_NEAR(c.occupied, 0.52941176470588, kFloat);
+  EXPECT_NEAR(c.free, 0.33823529411765, kFloat);
+  EXPECT_NEAR(c.unknown(), 0.13235294117647, kFloat);
+  EXPECT_NEAR(c.lambda, 0.38566248081198, kFloat);
+  EXPECT_TRUE(c.observed());
+}
+
+// fromMass followed by toMass returns the original masses (to float precision).
+TEST(CellTest, FromMassToMassRoundTrip) {
+  const std::vector<Mass> masses = {
+      Mass::make(0.0, 0.0, 0.0),   Mass::make(0.0, 0.6, 0.1), Mass::make(0.32, 0.36, 0.23),
+      Mass::make(0.5, 0.25, 0.25), Mass::make(0.0, 1.0, 0.0), Mass::make(0.9, 0.01, 0.02),
+      Mass::make(0.2, 0.0, 0.8)};
+  for (const Mass& m : masses) {
+    const Mass r = Cell::fromMass(m).toMass();
+    expectMass(r, m.conflict, m.occupied, m.free, m.unknown, kFloat);
+    EXPECT_NEAR(sum(r), 1.0, kFloat);
+  }
+}
+
+// updateCell on a vacuous cell stores the scan mass itself, with no conflict.
+TEST(CellTest, UpdateVacuousCellGivesScanMass) {
+  Cell c;
+  updateCell(c, ScanMass{0.3f, 0.5f});
+  EXPECT_NEAR(c.occupied, 0.3, kFloat);
+  EXPECT_NEAR(c.free, 0.5, kFloat);
+  EXPECT_NEAR(c.lambda, 0.0, kFloat);
+  EXPECT_TRUE(c.observed());
+}
+
+// Hand-computed sequence hit, miss, hit with hit = (o0.63, Θ0.37), miss = (e0.8, Θ0.2):
+// 1) hit on vacuous: m̃ = (0.63, 0), λ = 0
+// 2) miss: K = 0.63*0.8 = 0.504; m̃(o) = 0.63*0.2/0.496 = 0.25403225806,
+//    m̃(e) = 0.37*0.8/0.496 = 0.59677419355; λ = -ln 0.496 = 0.70117935226
+//    explicit masses: ∅ = 0.504, o = 0.126, e = 0.296, Θ = 0.074; EC = -log2 0.496 = 1.01158797428
+// 3) hit: K = 0.59677419*0.63 = 0.37596774; m̃(o) = (0.25403226*1 + 0.14919355*0.63)/0.62403226
+//    = 0.55770224864; m̃(e) = 0.59677419*0.37/0.62403226 = 0.35383820109;
+//    λ = 0.70117935 - ln 0.62403226 = 1.17273256859
+TEST(CellTest, UpdateCellHandSequence) {
+  const ScanMass hit{0.63f, 0.0f};
+  const ScanMass miss{0.0f, 0.8f};
+  Cell c;
+  updateCell(c, hit);
+  EXPECT_NEAR(c.occupied, 0.63, kFloat);
+  EXPECT_NEAR(c.free, 0.0, kFloat);
+  EXPECT_NEAR(c.lambda, 0.0, kFloat);
+
+  updateCell(c, miss);
+  EXPECT_NEAR(c.occupied, 0.25403225806, kFloat);
+  EXPECT_NEAR(c.free, 0.59677419355, kFloat);
+  EXPECT_NEAR(c.lambda, 0.70117935226, kFloat);
+  expectMass(c.toMass(), 0.504, 0.126, 0.296, 0.074, kFloat);
+  EXPECT_NEAR(externalConflict(c), 1.01158797428, 1e-5);
+
+  updateCell(c, hit);
+  EXPECT_NEAR(c.occupied, 0.55770224864, kFloat);
+  EXPECT_NEAR(c.free, 0.35383820109, kFloat);
+  EXPECT_NEAR(c.lambda, 1.17273256859, kFloat);
+}
+
+// updateCell (normalised storage) agrees with the explicit unnormalised conjunctive rule applied
+// to Mass, step by step, on several sequences; λ equals -ln(1 - m(∅)) of the explicit result.
+TEST(CellTest, UpdateCellMatchesExplicitConjunctiveRule) {
+  const std::vector<std::vector<ScanMass>> sequences = {
+      {{0.63f, 0.0f}, {0.0f, 0.8f}, {0.63f, 0.0f}, {0.0f, 0.8f}, {0.63f, 0.0f}},
+      {{0.3f, 0.1f}, {0.05f, 0.7f}, {0.2f, 0.2f}, {0.9f, 0.05f}, {0.0f, 0.8f}, {0.4f, 0.0f}},
+      {{0.0f, 0.8f}, {0.0f, 0.8f}, {0.0f, 0.8f}, {0.63f, 0.0f}, {0.63f, 0.0f}, {0.63f, 0.0f}},
+      {{0.5f, 0.5f}, {0.1f, 0.0f}, {0.0f, 0.1f}, {0.25f, 0.25f}},
+  };
+  for (size_t s = 0; s < sequences.size(); ++s) {
+    SCOPED_TRACE(testing::Message() << "sequence " << s);
+    Cell cell;
+    Mass mass = Mass::vacuous();
+    for (const ScanMass& scan : sequences[s]) {
+      updateCell(cell, scan);
+      mass = combineConjunctive(mass, Mass::make(0.0, scan.occupied, scan.free));
+      expectMass(cell.toMass(), mass.conflict, mass.occupied, mass.free, mass.unknown, 1e-5);
+      EXPECT_NEAR(cell.lambda, -std::log(1.0 - mass.conflict), 1e-5);
+    }
+  }
+}
+
+// λ accumulates -ln(1 - K) of each update: two misses then two hits.
+// miss on vacuous: e = 0.8; second miss: e = 0.8 + 0.2*0.8 = 0.96, K = 0, λ = 0.
+// hit: K = 0.96*0.63 = 0.6048, λ = -ln(0.3952) = 0.92836331; m̃(e) = 0.96*0.37/0.3952 = 0.89878543,
+//   m̃(o) = 0.04*0.63/0.3952 = 0.06376518.
+// hit: K = 0.89878543*0.63 = 0.56623482, λ = 0.92836331 - ln(0.43376518) = 0.92836331 + 0.83525195
+//   = 1.76361526; m̃(o) = (0.06376518 + 0.03745*0.63)/0.43376518 = 0.20139537,
+//   m̃(e) = 0.89878543*0.37/0.43376518 = 0.76666044.
+TEST(CellTest, LambdaAccumulatesMinusLogOneMinusK) {
+  Cell c;
+  updateCell(c, ScanMass{0.0f, 0.8f});
+  updateCell(c, ScanMass{0.0f, 0.8f});
+  EXPECT_NEAR(c.free, 0.96, kFloat);
+  EXPECT_NEAR(c.lambda, 0.0, kFloat);
+  updateCell(c, ScanMass{0.63f, 0.0f});
+  EXPECT_NEAR(c.lambda, 0.92836331, kFloat);
+  EXPECT_NEAR(c.free, 0.89878543, kFloat);
+  EXPECT_NEAR(c.occupied, 0.06376518, kFloat);
+  updateCell(c, ScanMass{0.63f, 0.0f});
+  EXPECT_NEAR(c.lambda, 1.76361526, 2e-6);
+  EXPECT_NEAR(c.occupied, 0.20139537, kFloat);
+  EXPECT_NEAR(c.free, 0.76666044, kFloat);
+  // EC in bits = λ / ln 2 = 1.76361526 / 0.69314718 = 2.54435899
+  EXPECT_NEAR(externalConflict(c), 2.54435899, 1e-5);
+}
+
+// 10^6 alternating hit/miss updates (the failure case of naive float storage, §2.3): no NaN/inf,
+// stored masses in [0,1], toMass() sums to 1, EC finite and never decreasing.
+// The cell converges to m̃(e) -> 1, so each hit adds K -> 0.63, i.e. -log2(0.37) = 1.43440282 bits
+// and each miss adds ~0: after 5*10^5 cycles EC ≈ 5e5 * 1.43440282 = 717201 bits (a double
+// recursion of the §2.3 formulas gives 717201.4). Tolerance 2% for float accumulation of λ.
+TEST(CellTest, AlternatingUpdatesNeverSaturate) {
+  const ScanMass hit{0.63f, 0.0f};
+  const ScanMass miss{0.0f, 0.8f};
+  Cell c;
+  double previous_ec = 0.0;
+  int failures = 0;  // stop reporting after a few failures, the loop is long
+  for (int i = 0; i < 1000000 && failures < 5; ++i) {
+    updateCell(c, (i % 2 == 0) ? hit : miss);
+    const bool finite = std::isfinite(c.occupied) && std::isfinite(c.free) &&
+                        std::isfinite(c.lambda) && std::isfinite(c.unknown());
+    const bool in_range = c.occupied >= 0.0f && c.occupied <= 1.0f && c.free >= 0.0f &&
+                          c.free <= 1.0f && c.unknown() >= 0.0f && c.unknown() <= 1.0f;
+    const Mass m = c.toMass();
+    const bool mass_ok = std::isfinite(m.conflict) && std::isfinite(m.occupied) &&
+                         std::isfinite(m.free) && std::isfinite(m.unknown) &&
+                         std::fabs(sum(m) - 1.0) <= 1e-6 && m.conflict >= 0.0 &&
+                         m.conflict <= 1.0 && m.occupied >= -1e-9 && m.free >= -1e-9 &&
+                         m.unknown >= -1e-9;  // exact sign: ToMassIsNonNegative...
+    const double ec = externalConflict(c);
+    const bool ec_ok = std::isfinite(ec) && ec >= previous_ec;
+    if (!(finite && in_range && mass_ok && ec_ok)) {
+      ++failures;
+      ADD_FAILURE() << "update " << i << ": finite=" << finite << " in_range=" << in_range
+                    << " mass_ok=" << mass_ok << " ec_ok=" << ec_ok << "; o=" << c.occupied
+                    << " e=" << c.free << " unknown()=" << c.unknown() << " lambda=" << c.lambda
+                    << "; toMass: conflict=" << m.conflict << " occupied=" << m.occupied
+                    << " free=" << m.free << " unknown=" << m.unknown << " sum=" << sum(m)
+                    << "; EC=" << ec << " previous EC=" << previous_ec;
+    }
+    previous_ec = ec;
+  }
+  EXPECT_NEAR(previous_ec, 717201.4, 0.02 * 717201.4);
+  EXPECT_GT(c.free, 0.99f);  // converged to "free" (misses dominate: 0.8 vs 0.63)
+}
+
+// toMass() of a cell whose stored pair sums to 1 in float (unknown() == 0) must not return a
+// negative m(Θ): (o, e) = (0.0011497404f, 0.99885029f) is a state the alternating-update test
+// reaches (update 21); here 1.0f - o - e == 0 but 1 - (double)o - (double)e = -2.6e-8 < 0, so
+// m(Θ) must be derived from the float unknown() or clamped, not recomputed in double.
+TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
+  Cell c;
+  c.occupied = 0.0011497404193505645f;
+  c.free = 0.99885028600692749f;
+  c.lambda = 10.935624122619629f;
+  ASSERT_EQ(c.unknown(), 0.0f);
+  const Mass m = c.toMass();
+  EXPECT_GE(m.unknown, 0.0);
+  EXPECT_GE(m.occupied, 0.0);
+  EXPECT_GE(m.free, 0.0);
+  EXPECT_GE(m.conflict, 0.0);
+  EXPECT_NEAR(sum(m), 1.0, 1e-12);
+  // Same with no conflict: toMass must give m(Θ) = 0 exactly up to sign, i.e. >= 0.
+  c.lambda = 0.0f;
+  EXPECT_GE(c.toMass().unknown, 0.0);
+}
+
+// Same invariants when the evidence is balanced so the cell stays mixed:
+// hit (o0.5, Θ0.5) and miss (e0.5, Θ0.5) alternating, 10^6 times. The cycle converges to
+// after-miss (0.5, 0.5) -> hit: K = 0.5*0.5 = 0.25, m̃ = (0.5/0.75, 0.25/0.75) = (2/3, 1/3)
+// -> miss: K = (2/3)*0.5 = 1/3, m̃ = ((1/3)/(2/3), (1/3)/(2/3)) = (0.5, 0.5).
+// Per cycle λ += -ln(0.75) - ln(2/3) = -ln(0.5) = ln 2, i.e. 1 bit per 2 updates: EC ≈ 5e5 bits.
+TEST(CellTest, AlternatingBalancedUpdatesStayFinite) {
+  Cell c;
+  double previous_lambda = 0.0;
+  bool ok = true;
+  for (int i = 0; i < 1000000 && ok; ++i) {
+    updateCell(c, (i % 2 == 0) ? ScanMass{0.5f, 0.0f} : ScanMass{0.0f, 0.5f});
+    const Mass m = c.toMass();
+    ok = std::isfinite(c.lambda) && c.lambda >= previous_lambda && c.occupied >= 0.0f &&
+         c.occupied <= 1.0f && c.free >= 0.0f && c.free <= 1.0f && c.unknown() >= 0.0f &&
+         std::fabs(sum(m) - 1.0) <= 1e-6 && std::isfinite(internalConflict(c)) &&
+         std::isfinite(pignistic(c));
+    EXPECT_TRUE(ok) << "update " << i << ": o=" << c.occupied << " e=" << c.free
+                    << " lambda=" << c.lambda;
+    previous_lambda = c.lambda;
+  }
+  EXPECT_NEAR(externalConflict(c), 500000.0, 0.02 * 500000.0);
+  EXPECT_NEAR(c.occupied, 0.5, 1e-3);  // after a miss (even count): the (0.5, 0.5) phase
+  EXPECT_NEAR(c.free, 0.5, 1e-3);
+}
+
+}  // namespace
+}  // namespace evidential_slam

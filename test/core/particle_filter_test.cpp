@@ -1,0 +1,223 @@
+// Tests of the particle filter (particle_filter.h).
+// First systematic (low-variance) resampling, ParticleFilter::systematicResample: with N
+// particles the sample positions are (u0 + i)/N, i = 0..N-1, and position u selects the first
+// particle whose cumulative weight exceeds u. Expected parents are worked out by hand below.
+// Then filter-level invariants: shared maps after initialize, log-domain normalisation, best =
+// highest cumulative weight, path bookkeeping, determinism for a seed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+#include <vector>
+
+#include "evidential_slam/core/particle_filter.h"
+
+namespace evidential_slam {
+namespace {
+
+std::vector<size_t> sorted(std::vector<size_t> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+std::vector<int> counts(const std::vector<size_t>& parents, size_t n) {
+  std::vector<int> c(n, 0);
+  for (size_t p : parents) {
+    EXPECT_LT(p, n);
+    if (p < n) ++c[p];
+  }
+  return c;
+}
+
+// weights {0.5, 0.25, 0.25, 0}, u0 = 0.1: positions 0.1/4 = 0.025, 1.1/4 = 0.275, 2.1/4 = 0.525,
+// 3.1/4 = 0.775; cumulative 0.5, 0.75, 1.0, 1.0 -> parents 0, 0, 1, 2.
+TEST(SystematicResampleTest, HandWorkedExample) {
+  const auto parents = ParticleFilter::systematicResample({0.5, 0.25, 0.25, 0.0}, 0.1);
+  ASSERT_EQ(parents.size(), 4u);
+  EXPECT_EQ(sorted(parents), (std::vector<size_t>{0, 0, 1, 2}));
+}
+
+// weights {0.1, 0.2, 0.3, 0.4}, u0 = 0.5: positions 0.125, 0.375, 0.625, 0.875;
+// cumulative 0.1, 0.3, 0.6, 1.0 -> parents 1, 2, 3, 3 (particle 0 is skipped by chance).
+TEST(SystematicResampleTest, SecondHandWorkedExample) {
+  const auto parents = ParticleFilter::systematicResample({0.1, 0.2, 0.3, 0.4}, 0.5);
+  ASSERT_EQ(parents.size(), 4u);
+  EXPECT_EQ(sorted(parents), (std::vector<size_t>{1, 2, 3, 3}));
+}
+
+// When N w_i are integers (4 * {0.5, 0.25, 0.25, 0} = {2, 1, 1, 0}) every u0 gives exactly those
+// counts; u0 = (k + 0.5)/100 keeps positions off the cumulative boundaries.
+TEST(SystematicResampleTest, IntegerExpectedCountsAreExact) {
+  for (int k = 0; k < 100; ++k) {
+    const double u0 = (k + 0.5) / 100.0;
+    const auto parents = ParticleFilter::systematicResample({0.5, 0.25, 0.25, 0.0}, u0);
+    ASSERT_EQ(parents.size(), 4u);
+    EXPECT_EQ(counts(parents, 4), (std::vector<int>{2, 1, 1, 0})) << "u0 = " << u0;
+  }
+}
+
+// Low variance: each count is floor(N w_i) or ceil(N w_i). N = 5, weights {0.1, 0.2, 0.3, 0.4, 0}:
+// N w = {0.5, 1, 1.5, 2, 0} -> counts in {0,1}, {1}, {1,2}, {2}, {0}, total 5.
+TEST(SystematicResampleTest, CountsAreFloorOrCeil) {
+  const std::vector<double> w = {0.1, 0.2, 0.3, 0.4, 0.0};
+  for (int k = 0; k < 100; ++k) {
+    const double u0 = (k + 0.5) / 100.0;
+    const auto c = counts(ParticleFilter::systematicResample(w, u0), 5);
+    SCOPED_TRACE(testing::Message() << "u0 = " << u0);
+    EXPECT_TRUE(c[0] == 0 || c[0] == 1);
+    EXPECT_EQ(c[1], 1);
+    EXPECT_TRUE(c[2] == 1 || c[2] == 2);
+    EXPECT_EQ(c[3], 2);
+    EXPECT_EQ(c[4], 0);
+    EXPECT_EQ(c[0] + c[1] + c[2] + c[3] + c[4], 5);
+  }
+}
+
+// A zero-weight particle is never chosen, wherever it sits (first, middle, last) and for every
+// u0 in [0, 1) on a 0.001 grid, including u0 = 0 (position 0 must not select a leading zero
+// weight).
+TEST(SystematicResampleTest, ZeroWeightNeverChosen) {
+  const std::vector<std::vector<double>> cases = {
+      {0.0, 0.5, 0.0, 0.5}, {0.25, 0.0, 0.75, 0.0}, {0.5, 0.5, 0.0}, {0.0, 0.0, 1.0}, {1.0, 0.0}};
+  for (const auto& w : cases) {
+    for (int k = 0; k < 1000; ++k) {
+      const double u0 = k / 1000.0;
+      const auto parents = ParticleFilter::systematicResample(w, u0);
+      ASSERT_EQ(parents.size(), w.size());
+      for (size_t p : parents) {
+        ASSERT_LT(p, w.size());
+        EXPECT_GT(w[p], 0.0) << "u0 = " << u0 << " chose zero-weight particle " << p;
+      }
+    }
+  }
+}
+
+// Uniform weights: every particle is chosen exactly once (positions (u0 + i)/N fall one in each
+// interval [i/N, (i+1)/N)).
+TEST(SystematicResampleTest, UniformWeightsKeepEveryParticleOnce) {
+  for (double u0 : {0.05, 0.3, 0.5, 0.77, 0.999}) {
+    const auto parents = ParticleFilter::systematicResample(std::vector<double>(5, 0.2), u0);
+    EXPECT_EQ(sorted(parents), (std::vector<size_t>{0, 1, 2, 3, 4})) << "u0 = " << u0;
+  }
+  // Paper setting K = 100.
+  const auto parents = ParticleFilter::systematicResample(std::vector<double>(100, 0.01), 0.37);
+  ASSERT_EQ(parents.size(), 100u);
+  const auto s = sorted(parents);
+  for (size_t i = 0; i < 100; ++i) EXPECT_EQ(s[i], i);
+}
+
+// One particle carrying all the weight is copied N times.
+TEST(SystematicResampleTest, DegenerateWeights) {
+  const auto parents = ParticleFilter::systematicResample({0.0, 0.0, 1.0, 0.0, 0.0}, 0.6);
+  EXPECT_EQ(parents, (std::vector<size_t>(5, 2)));
+}
+
+}  // namespace
+}  // namespace evidential_slam
+
+namespace evidential_slam {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// 360 beams over a full turn in a 4 m x 4 m room (walls x, y = ±2) seen from `pose`.
+LaserScan roomScanForFilter(const Pose2& pose) {
+  LaserScan scan;
+  scan.max_range = 30.0f;
+  for (int i = 0; i < 360; ++i) {
+    const double bearing = -kPi + i * (2 * kPi / 360);
+    const double a = pose.theta + bearing;
+    const double c = std::cos(a), s = std::sin(a);
+    double t = 1e9;
+    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
+    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
+    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
+    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+    scan.ranges.push_back(static_cast<float>(t));
+    scan.bearings.push_back(static_cast<float>(bearing));
+    scan.valid.push_back(1);
+  }
+  return scan;
+}
+
+SlamConfig filterConfig(int particles) {
+  SlamConfig c;
+  c.particles = particles;
+  c.threads = 1;
+  c.seed = 17;
+  return c;
+}
+
+// initialize(): K particles at the given pose, all sharing one map (copy-on-write tiles), so the
+// filter's map memory equals that of a single map.
+TEST(ParticleFilterTest, InitializeSharesOneMap) {
+  ParticleFilter filter(filterConfig(8));
+  const Pose2 start(-1.0, 0.2, 0.1);
+  filter.initialize(start, roomScanForFilter(start), 0);
+  ASSERT_EQ(filter.particles().size(), 8u);
+  for (const Particle& p : filter.particles()) {
+    EXPECT_NEAR(p.pose.x, start.x, 1e-12);
+    EXPECT_NEAR(p.pose.y, start.y, 1e-12);
+    EXPECT_NEAR(p.pose.theta, start.theta, 1e-12);
+    ASSERT_NE(p.path, nullptr);
+    EXPECT_EQ(p.path->step, 0);
+  }
+  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  const size_t one_map = filter.particles()[0].map.accumulateUniqueTileBytes(&seen);
+  EXPECT_GT(one_map, 0u);
+  EXPECT_EQ(filter.mapMemoryBytes(), one_map);
+  // The shared map holds the first scan.
+  const EvidentialGrid& map = filter.particles()[0].map;
+  EXPECT_FALSE(map.observedBox().empty());
+}
+
+// update(): weights are normalised in the log domain (max log weight 0), N_eff in [1, K], the
+// best particle has the highest cumulative weight, paths grow by one node per step.
+TEST(ParticleFilterTest, UpdateInvariants) {
+  ParticleFilter filter(filterConfig(8));
+  Pose2 truth(-1.0, 0.2, 0.0);
+  filter.initialize(truth, roomScanForFilter(truth), 0);
+  for (int step = 1; step <= 3; ++step) {
+    const Pose2 increment(0.5, 0.0, 0.0);
+    truth = truth.compose(increment);
+    const FilterStepInfo info = filter.update(increment, roomScanForFilter(truth), step);
+    EXPECT_GE(info.effective_sample_size, 1.0 - 1e-9);
+    EXPECT_LE(info.effective_sample_size, 8.0 + 1e-9);
+    double max_log = -1e300, max_cum = -1e300;
+    for (const Particle& p : filter.particles()) {
+      max_log = std::max(max_log, p.log_weight);
+      max_cum = std::max(max_cum, p.cumulative_log_weight);
+      ASSERT_NE(p.path, nullptr);
+      EXPECT_EQ(p.path->step, step);
+      ASSERT_NE(p.path->parent, nullptr);
+      EXPECT_EQ(p.path->parent->step, step - 1);
+      EXPECT_TRUE(std::isfinite(p.log_weight));
+    }
+    EXPECT_NEAR(max_log, 0.0, 1e-12);
+    EXPECT_DOUBLE_EQ(filter.best().cumulative_log_weight, max_cum);
+  }
+}
+
+// Same seed and thread count: identical results (config.h promises determinism).
+TEST(ParticleFilterTest, DeterministicForSeed) {
+  ParticleFilter a(filterConfig(6)), b(filterConfig(6));
+  Pose2 truth(-1.0, 0.2, 0.0);
+  a.initialize(truth, roomScanForFilter(truth), 0);
+  b.initialize(truth, roomScanForFilter(truth), 0);
+  for (int step = 1; step <= 2; ++step) {
+    const Pose2 increment(0.5, 0.05, 0.05);
+    truth = truth.compose(increment);
+    a.update(increment, roomScanForFilter(truth), step);
+    b.update(increment, roomScanForFilter(truth), step);
+  }
+  for (size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(a.particles()[i].pose.x, b.particles()[i].pose.x);
+    EXPECT_EQ(a.particles()[i].pose.y, b.particles()[i].pose.y);
+    EXPECT_EQ(a.particles()[i].pose.theta, b.particles()[i].pose.theta);
+    EXPECT_EQ(a.particles()[i].cumulative_log_weight, b.particles()[i].cumulative_log_weight);
+  }
+}
+
+}  // namespace
+}  // namespace evidential_slam

@@ -1,0 +1,138 @@
+// Tests of the SLAM entry point (slam_engine.h): the motion gate (0.5 m or 10°, algorithm.md §5),
+// rejection of unusable scans, trajectory bookkeeping, reset, and a smoke test in a simulated room.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "evidential_slam/core/slam_engine.h"
+
+namespace evidential_slam {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// 360 beams over a full turn in a 4 m x 4 m room centred on the origin (walls x, y = ±2), seen
+// from `pose` (sensor at the robot origin). Range to the nearest wall along each beam.
+LaserScan roomScan(const Pose2& pose, double stamp) {
+  LaserScan scan;
+  scan.stamp = stamp;
+  scan.max_range = 30.0f;
+  for (int i = 0; i < 360; ++i) {
+    const double bearing = -kPi + i * (2 * kPi / 360);
+    const double a = pose.theta + bearing;
+    const double c = std::cos(a), s = std::sin(a);
+    double t = std::numeric_limits<double>::infinity();
+    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
+    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
+    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
+    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+    scan.ranges.push_back(static_cast<float>(t));
+    scan.bearings.push_back(static_cast<float>(bearing));
+    scan.valid.push_back(1);
+  }
+  return scan;
+}
+
+SlamConfig smallConfig() {
+  SlamConfig c;
+  c.particles = 4;
+  c.threads = 1;
+  return c;
+}
+
+// Gate: the first scan is processed; then a scan is processed only once the odometry moved
+// >= 0.5 m or turned >= 10° since the last processed one: x = 0.1, 0.3 (no), 0.55 (yes: 0.55 m),
+// 0.6 with a 0.2 rad turn (yes: 0.2 > 0.1745 rad although only 0.05 m).
+TEST(SlamEngineTest, MotionGate) {
+  SlamEngine engine(smallConfig());
+  const std::vector<Pose2> odom = {Pose2(0, 0, 0), Pose2(0.1, 0, 0), Pose2(0.3, 0, 0),
+                                   Pose2(0.55, 0, 0), Pose2(0.6, 0, 0.2)};
+  const std::vector<bool> expected = {true, false, false, true, true};
+  for (size_t i = 0; i < odom.size(); ++i) {
+    const ScanUpdate u = engine.processScan(odom[i], roomScan(odom[i], 1.0 + i));
+    EXPECT_EQ(u.processed, expected[i]) << "scan " << i;
+    EXPECT_FALSE(u.rejected) << "scan " << i << ": " << u.why;
+  }
+  EXPECT_EQ(engine.stats().scans_received, 5u);
+  EXPECT_EQ(engine.stats().scans_processed, 3u);
+  EXPECT_EQ(engine.stats().scans_rejected, 0u);
+
+  // One trajectory pose per scan received, with its stamp.
+  const auto traj = engine.bestTrajectory();
+  ASSERT_EQ(traj.size(), 5u);
+  for (size_t i = 0; i < traj.size(); ++i) EXPECT_DOUBLE_EQ(traj[i].stamp, 1.0 + i);
+
+  // REP-105: map_T_odom ⊕ odom_T_base = map_T_base (the best pose at the latest scan).
+  const Pose2 via_odom = engine.mapToOdom().compose(odom.back());
+  const Pose2 best = engine.bestPose();
+  EXPECT_NEAR(via_odom.x, best.x, 1e-9);
+  EXPECT_NEAR(via_odom.y, best.y, 1e-9);
+  EXPECT_NEAR(normalizeAngle(via_odom.theta - best.theta), 0.0, 1e-9);
+}
+
+// Unusable scans are rejected with a reason and counted; they do not initialise the filter.
+TEST(SlamEngineTest, RejectsUnusableScans) {
+  SlamEngine engine(smallConfig());
+  LaserScan bad_sizes = roomScan(Pose2(), 1.0);
+  bad_sizes.bearings.pop_back();
+  ScanUpdate u = engine.processScan(Pose2(), bad_sizes);
+  EXPECT_TRUE(u.rejected);
+  EXPECT_FALSE(u.processed);
+  EXPECT_FALSE(u.why.empty());
+
+  LaserScan all_nan = roomScan(Pose2(), 2.0);
+  for (float& r : all_nan.ranges) r = std::numeric_limits<float>::quiet_NaN();
+  u = engine.processScan(Pose2(), all_nan);
+  EXPECT_TRUE(u.rejected);
+  EXPECT_FALSE(u.why.empty());
+  EXPECT_EQ(engine.stats().scans_rejected, 2u);
+  EXPECT_EQ(engine.stats().scans_processed, 0u);
+  EXPECT_EQ(engine.stats().rays_bad, 360u);
+
+  // A good scan afterwards is the first processed one.
+  u = engine.processScan(Pose2(), roomScan(Pose2(), 3.0));
+  EXPECT_TRUE(u.processed);
+  EXPECT_FALSE(u.rejected);
+}
+
+// reset() forgets everything: counters, trajectory, and the next scan is processed as a first one.
+TEST(SlamEngineTest, Reset) {
+  SlamEngine engine(smallConfig());
+  engine.processScan(Pose2(), roomScan(Pose2(), 1.0));
+  engine.processScan(Pose2(0.6, 0, 0), roomScan(Pose2(0.6, 0, 0), 2.0));
+  EXPECT_EQ(engine.stats().scans_processed, 2u);
+  engine.reset();
+  EXPECT_EQ(engine.stats().scans_received, 0u);
+  EXPECT_EQ(engine.stats().scans_processed, 0u);
+  EXPECT_TRUE(engine.bestTrajectory().empty());
+  const ScanUpdate u = engine.processScan(Pose2(0.6, 0, 0), roomScan(Pose2(0.6, 0, 0), 3.0));
+  EXPECT_TRUE(u.processed);
+}
+
+// Smoke test: exact odometry across the room in 0.5 m steps; the best pose stays on the truth
+// (within 0.15 m / 0.05 rad), the map marks the wall cell ahead as occupied and the room centre
+// as free.
+TEST(SlamEngineTest, RoomSmokeTest) {
+  SlamEngine engine(smallConfig());
+  for (int i = 0; i <= 6; ++i) {
+    const Pose2 truth(-1.5 + 0.5 * i, 0.1, 0.0);
+    const ScanUpdate u = engine.processScan(truth, roomScan(truth, 1.0 + i));
+    EXPECT_TRUE(u.processed) << "scan " << i;
+    EXPECT_NEAR(u.best_pose.x, truth.x, 0.15) << "scan " << i;
+    EXPECT_NEAR(u.best_pose.y, truth.y, 0.15) << "scan " << i;
+    EXPECT_NEAR(normalizeAngle(u.best_pose.theta - truth.theta), 0.0, 0.05) << "scan " << i;
+  }
+  const EvidentialGrid& map = engine.bestMap();
+  // Wall x = 2 at y = 0.1: the hit points lie on the boundary between cells 39 and 40.
+  const CellIndex wall = map.worldToCell(1.99, 0.125);
+  const CellIndex wall2 = map.worldToCell(2.01, 0.125);
+  EXPECT_GT(std::max(map.cell(wall).occupied, map.cell(wall2).occupied), 0.5f);
+  const CellIndex centre = map.worldToCell(0.0, 0.6);
+  EXPECT_GT(map.cell(centre).free, 0.9f);
+  EXPECT_LT(map.cell(centre).occupied, 0.05f);
+}
+
+}  // namespace
+}  // namespace evidential_slam
