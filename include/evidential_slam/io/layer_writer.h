@@ -1,0 +1,50 @@
+// Writes the nine map layers of a LayerRaster to a directory:
+//   <name>.png      one 8-bit grey image per layer, north-up, dark = high value (the paper's
+//                   convention: black = 1); EC, unbounded, is scaled by its maximum in the map.
+//   composite.png   RGB = (m(o), m(e), m(Θ)): occupied red, free green, unknown blue, and
+//                   conflict, which takes mass from all three, dark.
+//   <name>.npy      the raw float32 values, shape (height, width), row 0 = lowest y (the layout
+//                   of nav_msgs/OccupancyGrid), plus observed.npy (uint8, 1 = cell has evidence).
+//   map.yaml        map_server metadata for pignistic.png, plus each layer's PNG value range.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/core/layers.h"
+
+namespace evidential_slam {
+namespace io {
+
+struct LayerWriterConfig {
+  double occupied_thresh = 0.65;  // map.yaml (map_server): BetP above this is occupied
+  double free_thresh = 0.196;     // and below this free
+};
+
+// How one layer's values were mapped to its PNG: value `white` -> 255, value `black` -> 0,
+// linear in between, clamped.
+struct LayerImageScale {
+  std::string name;
+  double white = 0.0;
+  double black = 1.0;
+  float min_value = 0.0f;  // range of the raw values over the raster (finite ones)
+  float max_value = 0.0f;
+};
+
+struct LayerWriteResult {
+  std::vector<std::string> files;  // everything written, full paths
+  std::array<LayerImageScale, kLayerCount> scales;
+  double external_conflict_scale = 1.0;  // EC value drawn black (its maximum)
+};
+
+// Grey level of `value` under `scale`: 255 at `white`, 0 at `black`.
+uint8_t layerPixel(float value, const LayerImageScale& scale);
+
+// Writes everything listed above into `dir` (which must exist). False (and `error`) on the first
+// file that cannot be written.
+bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
+                 LayerWriteResult* result, std::string* error);
+
+}  // namespace io
+}  // namespace evidential_slam

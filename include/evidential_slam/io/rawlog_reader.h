@@ -1,0 +1,100 @@
+// Streams an MRPT rawlog (.rawlog, gzip or plain) entry by entry and turns every 2-D laser scan
+// into a core LaserScan plus the robot's absolute odometry pose at that scan. Both rawlog formats
+// are read: Actions/SensoryFrame (odometry as CActionRobotMovement2D increments, accumulated here)
+// and observation-only (CObservationOdometry absolute poses, interpolated to each scan's stamp).
+// MRPT's types stay inside the .cpp: callers see core types only.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+namespace io {
+
+struct RawlogReaderConfig {
+  // Only scans with this sensor label are read; empty = every CObservation2DRangeScan.
+  std::string laser_label;
+  // A scan more than this far in time (s) outside the span of the odometry samples gets no
+  // odometry and is dropped (counted in scans_without_odometry).
+  double max_odometry_gap = 0.5;
+  // Scans waiting for a later odometry sample, at most; older ones are dropped beyond this
+  // (bounds memory on a log whose odometry stops).
+  size_t max_pending_scans = 256;
+};
+
+// One scan of the log with the odometry at its stamp.
+struct RawlogScan {
+  LaserScan scan;
+  Pose2 odometry;     // absolute odometry pose (odom frame) at scan.stamp
+  std::string label;  // sensor label of the observation
+};
+
+enum class RawlogFormat { kUnknown, kActionsSensoryFrames, kObservations };
+const char* toString(RawlogFormat format);
+
+struct RawlogCounts {
+  uint64_t entries = 0;                 // rawlog entries read (MRPT's rawlogEntry counter)
+  uint64_t scans = 0;                   // 2-D laser scans seen (matching the label)
+  uint64_t scans_emitted = 0;           // scans handed out by next()
+  uint64_t scans_without_odometry = 0;  // dropped: no odometry near their stamp
+  uint64_t odometry_samples = 0;        // CActionRobotMovement2D / CObservationOdometry used
+  uint64_t other_observations = 0;      // observations of other classes or labels, ignored
+};
+
+class RawlogReader {
+ public:
+  explicit RawlogReader(const RawlogReaderConfig& config = {});
+  ~RawlogReader();
+  RawlogReader(const RawlogReader&) = delete;
+  RawlogReader& operator=(const RawlogReader&) = delete;
+
+  // Opens `path`. False (and `error`, one line) when it is missing or unreadable. Whether it is a
+  // rawlog at all shows on the first next().
+  bool open(const std::string& path, std::string* error);
+
+  enum class Status {
+    kScan,       // `out` holds the next scan
+    kEnd,        // clean end of file
+    kTruncated,  // the file ends inside an entry: everything before it was returned (warning())
+    kError,      // the data is not a rawlog (or is corrupt) before any entry could be read
+  };
+  // Reads on until the next scan whose odometry is known, or the end.
+  Status next(RawlogScan* out);
+
+  const RawlogCounts& counts() const;
+  RawlogFormat format() const;
+  // Why reading stopped early (kTruncated / kError), one line; empty otherwise.
+  const std::string& message() const;
+  // Things the caller should pass on to the user (skipped scans, mixed odometry sources).
+  std::vector<std::string> warnings() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Result of a pre-pass over a whole rawlog (deserialises every entry, keeps none).
+struct RawlogSurvey {
+  RawlogReader::Status status = RawlogReader::Status::kEnd;  // kEnd, kTruncated or kError
+  std::string message;
+  RawlogFormat format = RawlogFormat::kUnknown;
+  RawlogCounts counts;
+  double first_stamp = 0.0;
+  double last_stamp = 0.0;
+};
+
+// Counts the scans and odometry samples of `path` for a progress bar and for early, clear errors
+// (no laser, no odometry) before any work. Costs one decompress + deserialise pass, ~0.2 s for the
+// 1732 scans of simul.rawlog (2.2 MB), against ~30 s of SLAM with 100 particles: cheap enough, and
+// exact where a byte-position estimate would not be (gzip hides the uncompressed size). False (and
+// `error`) when the file cannot be opened.
+bool surveyRawlog(const std::string& path, const RawlogReaderConfig& config, RawlogSurvey* survey,
+                  std::string* error);
+
+}  // namespace io
+}  // namespace evidential_slam

@@ -1,0 +1,179 @@
+// Layer images, arrays and map.yaml. See layer_writer.h.
+#include "evidential_slam/io/layer_writer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include <mrpt/img/CImage.h>
+#include <Eigen/Core>
+
+#include "evidential_slam/io/npy.h"
+
+namespace evidential_slam {
+namespace io {
+namespace {
+
+using ByteImage = Eigen::Matrix<uint8_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Raster row r (row 0 = lowest y) becomes image row height-1-r: north-up.
+template <typename F>
+ByteImage northUp(const LayerRaster& raster, F&& pixel_of_index) {
+  ByteImage img(raster.height, raster.width);
+  for (int r = 0; r < raster.height; ++r) {
+    for (int c = 0; c < raster.width; ++c) {
+      img(raster.height - 1 - r, c) = pixel_of_index(static_cast<size_t>(r) * raster.width + c);
+    }
+  }
+  return img;
+}
+
+bool savePng(const mrpt::img::CImage& img, const std::string& path, std::string* error) {
+  bool ok = false;
+  try {
+    ok = img.saveToFile(path);
+  } catch (const std::exception& e) {
+    if (error) *error = "cannot write '" + path + "': " + e.what();
+    return false;
+  }
+  if (!ok && error) *error = "cannot write '" + path + "'";
+  return ok;
+}
+
+// Scale of each layer's PNG. Masses, BetP, NS, IC and H live in [0, 1] (IC and H in bits over a
+// two-element frame); EC is unbounded and is scaled by its maximum so its structure stays visible.
+LayerImageScale scaleFor(Layer layer, float min_value, float max_value) {
+  LayerImageScale s;
+  s.name = layerName(layer);
+  s.min_value = min_value;
+  s.max_value = max_value;
+  s.white = 0.0;
+  s.black = 1.0;
+  if (layer == Layer::kExternalConflict) s.black = max_value > 0.0f ? max_value : 1.0;
+  return s;
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.9g", v);
+  return buf;
+}
+
+}  // namespace
+
+uint8_t layerPixel(float value, const LayerImageScale& scale) {
+  if (!std::isfinite(value)) return value > 0 ? 0 : 255;  // +inf as black, NaN / -inf as white
+  const double t = (value - scale.white) / (scale.black - scale.white);
+  const double grey = 255.0 * (1.0 - std::clamp(t, 0.0, 1.0));
+  return static_cast<uint8_t>(std::lround(grey));
+}
+
+bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
+                 LayerWriteResult* result, std::string* error) {
+  *result = LayerWriteResult();
+  const size_t cells = static_cast<size_t>(raster.width) * raster.height;
+  for (int l = 0; l < kLayerCount; ++l) {
+    if (raster.values[l].size() != cells) {
+      if (error) {
+        *error = "layer '" + layerNames()[l] + "' has " + std::to_string(raster.values[l].size()) +
+                 " values for a " + std::to_string(raster.width) + "x" +
+                 std::to_string(raster.height) + " raster";
+      }
+      return false;
+    }
+  }
+  const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+
+  for (int l = 0; l < kLayerCount; ++l) {
+    const Layer layer = static_cast<Layer>(l);
+    const std::vector<float>& v = raster.values[l];
+    float lo = std::numeric_limits<float>::infinity();
+    float hi = -std::numeric_limits<float>::infinity();
+    for (float x : v) {
+      if (!std::isfinite(x)) continue;
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    if (lo > hi) lo = hi = 0.0f;
+    LayerImageScale scale = scaleFor(layer, lo, hi);
+    result->scales[l] = scale;
+    if (layer == Layer::kExternalConflict) result->external_conflict_scale = scale.black;
+
+    mrpt::img::CImage img;
+    img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
+    const std::string png = base + layerNames()[l] + ".png";
+    if (!savePng(img, png, error)) return false;
+    result->files.push_back(png);
+
+    const std::string npy = base + layerNames()[l] + ".npy";
+    if (!writeNpy(npy, v.data(), raster.height, raster.width, error)) return false;
+    result->files.push_back(npy);
+  }
+
+  // Composite: a mass in [0, 1] per channel. loadFromMemoryBuffer takes separate R, G, B planes
+  // and stores them in OpenCV's channel order itself (setFromRGBMatrices would not: it writes
+  // R, G, B into OpenCV's B, G, R slots).
+  {
+    const LayerImageScale direct{"", 1.0, 0.0, 0.0f, 1.0f};  // 0 -> 0 (dark), 1 -> 255
+    auto plane = [&](Layer layer) {
+      const auto& v = raster.layer(layer);
+      return northUp(raster, [&](size_t i) { return layerPixel(v[i], direct); });
+    };
+    ByteImage red = plane(Layer::kOccupied);
+    ByteImage green = plane(Layer::kFree);
+    ByteImage blue = plane(Layer::kUnknown);
+    mrpt::img::CImage img;
+    img.loadFromMemoryBuffer(raster.width, raster.height, raster.width, red.data(), green.data(),
+                             blue.data());
+    const std::string png = base + "composite.png";
+    if (!savePng(img, png, error)) return false;
+    result->files.push_back(png);
+  }
+
+  {
+    std::vector<uint8_t> observed = raster.observed;
+    if (observed.size() != cells) observed.assign(cells, 0);
+    const std::string npy = base + "observed.npy";
+    if (!writeNpy(npy, observed.data(), raster.height, raster.width, error)) return false;
+    result->files.push_back(npy);
+  }
+
+  const std::string yaml_path = base + "map.yaml";
+  std::ofstream yaml(yaml_path);
+  yaml << "# map_server metadata: pignistic.png holds BetP(o), dark = occupied.\n"
+       << "image: pignistic.png\n"
+       << "resolution: " << fmt(raster.resolution) << "\n"
+       << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
+       << "negate: 0\n"
+       << "occupied_thresh: " << fmt(config.occupied_thresh) << "\n"
+       << "free_thresh: " << fmt(config.free_thresh) << "\n"
+       << "# evidential_slam extras (map_server ignores them).\n"
+       << "width: " << raster.width << "\n"
+       << "height: " << raster.height << "\n"
+       << "png_layout: \"north-up 8-bit grey (image row 0 = highest y); grey = 255 * (1 - "
+          "clamp((v - png_white) / (png_black - png_white), 0, 1)), so png_black is drawn black\"\n"
+       << "npy_layout: \"float32 '<f4', shape (height, width), C order, row 0 = lowest y, col 0 = "
+          "lowest x (nav_msgs/OccupancyGrid order); observed.npy is uint8, 1 = cell has "
+          "evidence\"\n"
+       << "composite: {image: composite.png, red: occupied, green: free, blue: unknown}\n"
+       << "external_conflict_scale: " << fmt(result->external_conflict_scale) << "\n"
+       << "layers:\n";
+  for (int l = 0; l < kLayerCount; ++l) {
+    const LayerImageScale& s = result->scales[l];
+    yaml << "  " << s.name << ": {image: " << s.name << ".png, npy: " << s.name
+         << ".npy, png_white: " << fmt(s.white) << ", png_black: " << fmt(s.black)
+         << ", min: " << fmt(s.min_value) << ", max: " << fmt(s.max_value) << "}\n";
+  }
+  yaml.close();
+  if (!yaml) {
+    if (error) *error = "cannot write '" + yaml_path + "'";
+    return false;
+  }
+  result->files.push_back(yaml_path);
+  return true;
+}
+
+}  // namespace io
+}  // namespace evidential_slam

@@ -1,0 +1,386 @@
+// The offline rawlog runner. See offline_runner.h.
+#include "evidential_slam/io/offline_runner.h"
+
+#include <sys/resource.h>
+
+#include <charconv>
+#include <chrono>
+#include <filesystem>
+#include <system_error>
+
+#include "evidential_slam/core/layers.h"
+#include "evidential_slam/core/metrics.h"
+#include "evidential_slam/core/slam_engine.h"
+#include "evidential_slam/io/ground_truth.h"
+#include "evidential_slam/io/layer_writer.h"
+#include "evidential_slam/io/progress.h"
+#include "evidential_slam/io/rawlog_reader.h"
+#include "evidential_slam/io/summary.h"
+#include "evidential_slam/io/trajectory_io.h"
+
+namespace evidential_slam {
+namespace io {
+namespace {
+
+namespace fs = std::filesystem;
+
+template <typename T>
+bool parseNumber(const std::string& text, T* value) {
+  const char* begin = text.data();
+  const char* end = begin + text.size();
+  const auto r = std::from_chars(begin, end, *value);
+  return r.ec == std::errc() && r.ptr == end && !text.empty();
+}
+
+// Rejected scans are reported one by one only this often; the rest are counted.
+constexpr uint64_t kRejectionsShown = 3;
+
+class Run {
+ public:
+  Run(const OfflineOptions& o, std::FILE* out, std::FILE* err, bool tty)
+      : opt_(o), out_(out), err_(err), tty_(tty) {}
+
+  int execute();
+
+ private:
+  int fail(int code, const std::string& message) {
+    if (progress_) progress_->clearLine();
+    std::fprintf(err_, "error: %s\n", message.c_str());
+    return code;
+  }
+  void warn(const std::string& message, bool keep = true) {
+    if (keep) summary_.warnings.push_back(message);
+    if (opt_.quiet) return;
+    if (progress_) progress_->clearLine();
+    std::fprintf(err_, "warning: %s\n", message.c_str());
+  }
+  bool writeOutputs(const SlamEngine& engine, std::string* error);
+
+  const OfflineOptions& opt_;
+  std::FILE* out_;
+  std::FILE* err_;
+  bool tty_;
+  std::unique_ptr<ProgressBar> progress_;
+  RunSummary summary_;
+  std::vector<StampedPose> truth_;
+  std::vector<StampedPose> odometry_path_;
+  fs::path out_dir_;
+  fs::path layers_dir_;
+};
+
+int Run::execute() {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string why;
+  if (!opt_.slam.isValid(&why)) return fail(kExitUsage, "invalid parameters: " + why);
+
+  summary_.rawlog = opt_.rawlog;
+  summary_.ground_truth = opt_.ground_truth;
+  summary_.particles = opt_.slam.particles;
+  summary_.resolution = opt_.slam.resolution;
+  summary_.seed = opt_.slam.seed;
+  summary_.threads = opt_.slam.threads;
+
+  if (!opt_.ground_truth.empty() && !readGroundTruth(opt_.ground_truth, &truth_, &why)) {
+    return fail(kExitBadInput, why);
+  }
+
+  // Pre-pass: early, clear errors and the total for the progress line.
+  RawlogReaderConfig reader_config;
+  reader_config.laser_label = opt_.laser_label;
+  RawlogSurvey survey;
+  if (!surveyRawlog(opt_.rawlog, reader_config, &survey, &why)) return fail(kExitBadInput, why);
+  if (survey.status == RawlogReader::Status::kError) return fail(kExitBadInput, survey.message);
+  const std::string label_note =
+      opt_.laser_label.empty() ? "" : " with label '" + opt_.laser_label + "'";
+  if (survey.counts.scans == 0) {
+    return fail(kExitBadInput, "no 2-D laser scans (CObservation2DRangeScan)" + label_note +
+                                   " in '" + opt_.rawlog + "'");
+  }
+  if (survey.counts.odometry_samples == 0) {
+    return fail(kExitBadInput, "no odometry in '" + opt_.rawlog +
+                                   "' (needs CActionRobotMovement2D or CObservationOdometry)");
+  }
+  if (survey.counts.scans_emitted == 0) {
+    return fail(kExitBadInput, "no scan in '" + opt_.rawlog + "' has odometry near its time");
+  }
+  summary_.rawlog_format = toString(survey.format);
+
+  out_dir_ = opt_.out_dir;
+  layers_dir_ = out_dir_ / "layers";
+  std::error_code ec;
+  fs::create_directories(layers_dir_, ec);
+  if (ec || !fs::is_directory(layers_dir_)) {
+    return fail(kExitBadInput, "cannot create output directory '" + layers_dir_.string() +
+                                   "': " + (ec ? ec.message() : "not a directory"));
+  }
+
+  RawlogReader reader(reader_config);
+  if (!reader.open(opt_.rawlog, &why)) return fail(kExitBadInput, why);
+
+  uint64_t total = survey.counts.scans_emitted;
+  if (opt_.max_scans > 0 && opt_.max_scans < total) total = opt_.max_scans;
+  if (!opt_.quiet) progress_ = std::make_unique<ProgressBar>(err_, total, tty_);
+
+  SlamEngine engine(opt_.slam);
+  RawlogScan item;
+  RawlogReader::Status status = RawlogReader::Status::kEnd;
+  uint64_t given = 0;
+  double slam_s = 0.0;
+  bool stopped_early = false;
+  while ((status = reader.next(&item)) == RawlogReader::Status::kScan) {
+    if (opt_.max_scans > 0 && given >= opt_.max_scans) {
+      stopped_early = true;
+      break;
+    }
+    const auto s0 = std::chrono::steady_clock::now();
+    const ScanUpdate update = engine.processScan(item.odometry, item.scan);
+    slam_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+    ++given;
+    odometry_path_.push_back({item.scan.stamp, item.odometry});
+    if (update.rejected) {
+      const uint64_t rejected = engine.stats().scans_rejected;
+      if (rejected <= kRejectionsShown) {
+        char stamp[32];
+        std::snprintf(stamp, sizeof(stamp), "%.6f", item.scan.stamp);
+        warn("scan " + std::to_string(given) + " (t = " + stamp + " s) rejected: " + update.why,
+             false);
+        if (rejected == kRejectionsShown) {
+          warn("further rejected scans are only counted (summary.json: scans_rejected)", false);
+        }
+      }
+    }
+    if (progress_) progress_->update(given);
+  }
+  if (progress_) progress_->finish(given);
+
+  if (status == RawlogReader::Status::kTruncated || status == RawlogReader::Status::kError) {
+    summary_.truncated = true;
+    warn(reader.message());
+  }
+  for (const std::string& w : reader.warnings()) warn(w);
+  if (given == 0) return fail(kExitBadInput, "no scan could be read from '" + opt_.rawlog + "'");
+
+  const SlamStats& stats = engine.stats();
+  if (stats.scans_rejected > 0) {
+    warn(std::to_string(stats.scans_rejected) + " of " + std::to_string(given) +
+         " scans were rejected by the SLAM core");
+  }
+  if (stopped_early) {
+    summary_.warnings.push_back("stopped after --max-scans " + std::to_string(opt_.max_scans));
+  }
+  summary_.scans_total = given;
+  summary_.scans_processed = stats.scans_processed;
+  summary_.scans_rejected = stats.scans_rejected;
+  summary_.scans_without_odometry = reader.counts().scans_without_odometry;
+  summary_.rays_total = stats.rays_total;
+  summary_.rays_bad = stats.rays_bad;
+  summary_.rays_no_return = stats.rays_no_return;
+  summary_.resamplings = stats.resamplings;
+  summary_.slam_time_s = slam_s;
+  if (stats.rays_bad > 0) {
+    warn(std::to_string(stats.rays_bad) +
+         " rays with NaN, infinite or negative ranges were skipped");
+  }
+
+  if (!truth_.empty()) {
+    AteResult ate;
+    if (computeAte(engine.bestTrajectory(), truth_, opt_.ate_max_dt, &ate, &why)) {
+      summary_.ate = AteSummary{ate.rmse, ate.max_error, ate.matched};
+    } else {
+      warn("no trajectory error: " + why);
+    }
+    if (computeAte(odometry_path_, truth_, opt_.ate_max_dt, &ate, &why)) {
+      summary_.odometry_ate = AteSummary{ate.rmse, ate.max_error, ate.matched};
+    }
+  }
+
+  if (!writeOutputs(engine, &why)) return fail(kExitBadInput, why);
+
+  summary_.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  summary_.peak_rss_mb = peakRssMb();
+  const std::string summary_path = (out_dir_ / "summary.json").string();
+  summary_.outputs.push_back("summary.json");
+  if (!writeSummaryJson(summary_path, summary_, &why)) return fail(kExitBadInput, why);
+
+  std::fprintf(out_, "scans:      %llu read, %llu processed, %llu rejected%s\n",
+               static_cast<unsigned long long>(given),
+               static_cast<unsigned long long>(summary_.scans_processed),
+               static_cast<unsigned long long>(summary_.scans_rejected),
+               summary_.truncated ? " (log truncated)" : "");
+  std::fprintf(out_, "time:       %.1f s (SLAM %.1f s, %.1f scans/s), peak RSS %.0f MB\n",
+               summary_.wall_time_s, slam_s, slam_s > 0 ? given / slam_s : 0.0,
+               summary_.peak_rss_mb);
+  if (summary_.ate) {
+    std::fprintf(out_, "ATE:        RMSE %.3f m, max %.3f m over %llu poses", summary_.ate->rmse_m,
+                 summary_.ate->max_m, static_cast<unsigned long long>(summary_.ate->matched));
+    if (summary_.odometry_ate) {
+      std::fprintf(out_, " (odometry alone: RMSE %.3f m)", summary_.odometry_ate->rmse_m);
+    }
+    std::fprintf(out_, "\n");
+  }
+  std::fprintf(out_, "trajectory: %s\n", (out_dir_ / "trajectory.tum").string().c_str());
+  std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, map.yaml)\n",
+               layers_dir_.string().c_str(), summary_.map_width, summary_.map_height);
+  std::fprintf(out_, "summary:    %s\n", summary_path.c_str());
+  std::fflush(out_);
+  return kExitOk;
+}
+
+bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
+  const std::string tum = (out_dir_ / "trajectory.tum").string();
+  if (!writeTumTrajectory(tum, engine.bestTrajectory(), error)) return false;
+  summary_.outputs.push_back("trajectory.tum");
+
+  const LayerRaster raster = extractLayers(engine.bestMap());
+  LayerWriteResult written;
+  if (!writeLayers(raster, layers_dir_.string(), LayerWriterConfig(), &written, error)) {
+    return false;
+  }
+  for (const std::string& f : written.files) {
+    summary_.outputs.push_back(fs::path(f).lexically_relative(out_dir_).string());
+  }
+  summary_.external_conflict_scale = written.external_conflict_scale;
+  summary_.map_width = raster.width;
+  summary_.map_height = raster.height;
+  return true;
+}
+
+}  // namespace
+
+double peakRssMb() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+std::string offlineUsage(const std::string& program) {
+  return "usage: " + program +
+         " --rawlog FILE --out DIR [--ground-truth GT.txt] [--particles K] [--seed N]\n"
+         "       [--resolution M] [--threads N] [--max-scans N] [--laser-label L] [--quiet]\n"
+         "\n"
+         "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
+         "Writes DIR/trajectory.tum, DIR/layers/{<layer>.png,<layer>.npy,composite.png,\n"
+         "observed.npy,map.yaml} and DIR/summary.json.\n"
+         "\n"
+         "  --rawlog FILE         input rawlog (.rawlog, gzip or plain)\n"
+         "  --out DIR             output directory (created)\n"
+         "  --ground-truth FILE   `t x y phi` per line; adds the ATE to summary.json\n"
+         "  --particles K         number of particles (default 100)\n"
+         "  --seed N              random seed (default 1)\n"
+         "  --resolution M        map cell size in metres (default 0.05)\n"
+         "  --threads N           worker threads, 0 = all cores (default 0)\n"
+         "  --max-scans N         stop after N scans\n"
+         "  --laser-label L       use only scans with this sensor label\n"
+         "  --quiet               no progress line and no warnings on stderr\n"
+         "\n"
+         "Exit codes: 0 success (also a truncated log), 1 bad usage, 2 unusable input or\n"
+         "unwritable output, 3 internal error.\n";
+}
+
+bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, bool* help,
+                      std::string* error) {
+  *help = false;
+  auto bad = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string flag = args[i];
+    std::string value;
+    bool has_inline = false;
+    if (flag.rfind("--", 0) == 0) {
+      const size_t eq = flag.find('=');
+      if (eq != std::string::npos) {
+        value = flag.substr(eq + 1);
+        flag = flag.substr(0, eq);
+        has_inline = true;
+      }
+    }
+    if (flag == "-h" || flag == "--help") {
+      *help = true;
+      return true;
+    }
+    if (flag == "--quiet" || flag == "-q") {
+      if (has_inline) return bad("--quiet takes no value");
+      o->quiet = true;
+      continue;
+    }
+    static const char* kValued[] = {"--rawlog",    "--out",       "--ground-truth",
+                                    "--particles", "--seed",      "--resolution",
+                                    "--threads",   "--max-scans", "--laser-label"};
+    bool known = false;
+    for (const char* k : kValued) known = known || flag == k;
+    if (!known) return bad("unknown option '" + args[i] + "'");
+    if (!has_inline) {
+      if (i + 1 >= args.size()) return bad(flag + " needs a value");
+      value = args[++i];
+    }
+    if (flag == "--rawlog") {
+      o->rawlog = value;
+    } else if (flag == "--out") {
+      o->out_dir = value;
+    } else if (flag == "--ground-truth") {
+      o->ground_truth = value;
+    } else if (flag == "--laser-label") {
+      o->laser_label = value;
+    } else if (flag == "--particles") {
+      int k = 0;
+      if (!parseNumber(value, &k) || k < 1) return bad("--particles wants an integer >= 1");
+      o->slam.particles = k;
+    } else if (flag == "--seed") {
+      uint64_t s = 0;
+      if (!parseNumber(value, &s)) return bad("--seed wants a non-negative integer");
+      o->slam.seed = s;
+    } else if (flag == "--resolution") {
+      double r = 0;
+      if (!parseNumber(value, &r) || !(r > 0.0) || r > 10.0) {
+        return bad("--resolution wants metres per cell in (0, 10]");
+      }
+      o->slam.resolution = r;
+    } else if (flag == "--threads") {
+      int t = 0;
+      if (!parseNumber(value, &t) || t < 0) return bad("--threads wants an integer >= 0");
+      o->slam.threads = t;
+    } else if (flag == "--max-scans") {
+      uint64_t n = 0;
+      if (!parseNumber(value, &n) || n == 0) return bad("--max-scans wants an integer >= 1");
+      o->max_scans = n;
+    }
+  }
+  if (o->rawlog.empty()) return bad("--rawlog is required");
+  if (o->out_dir.empty()) return bad("--out is required");
+  return true;
+}
+
+namespace {
+
+// First meaningful line of an exception text (MRPT's carry a banner and a call stack).
+std::string oneLine(const std::string& what) {
+  std::string text = what;
+  const size_t msg = text.find("Message:");
+  if (msg != std::string::npos) text = text.substr(msg + 8);
+  const size_t start = text.find_first_not_of(" \t\n");
+  if (start == std::string::npos) return "(no message)";
+  text = text.substr(start);
+  const size_t eol = text.find('\n');
+  return eol == std::string::npos ? text : text.substr(0, eol);
+}
+
+}  // namespace
+
+int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty) {
+  try {
+    Run run(options, out, err, err_is_tty);
+    return run.execute();
+  } catch (const std::bad_alloc&) {
+    std::fprintf(err, "error: out of memory\n");
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::fprintf(err, "error: unexpected failure: %s\n", oneLine(e.what()).c_str());
+    return kExitInternal;
+  }
+}
+
+}  // namespace io
+}  // namespace evidential_slam

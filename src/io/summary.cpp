@@ -1,0 +1,67 @@
+// summary.json through nlohmann::json (keys keep the order below). See summary.h.
+#include "evidential_slam/io/summary.h"
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+namespace evidential_slam {
+namespace io {
+
+bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string* error) {
+  nlohmann::ordered_json j;
+  j["rawlog"] = s.rawlog;
+  j["rawlog_format"] = s.rawlog_format;
+  j["scans_total"] = s.scans_total;
+  j["scans_processed"] = s.scans_processed;
+  j["scans_rejected"] = s.scans_rejected;
+  j["scans_without_odometry"] = s.scans_without_odometry;
+  j["rays_total"] = s.rays_total;
+  j["rays_bad"] = s.rays_bad;
+  j["rays_no_return"] = s.rays_no_return;
+  j["resamplings"] = s.resamplings;
+  j["wall_time_s"] = s.wall_time_s;
+  j["slam_time_s"] = s.slam_time_s;
+  j["peak_rss_mb"] = s.peak_rss_mb;
+  j["particles"] = s.particles;
+  j["resolution"] = s.resolution;
+  j["seed"] = s.seed;
+  j["threads"] = s.threads;
+  j["truncated"] = s.truncated;
+  j["warnings"] = s.warnings;
+  if (!s.ground_truth.empty()) j["ground_truth"] = s.ground_truth;
+  if (s.ate) {
+    j["ate_rmse_m"] = s.ate->rmse_m;
+    j["ate_max_m"] = s.ate->max_m;
+    j["ate_matched"] = s.ate->matched;
+  } else if (!s.ground_truth.empty()) {
+    j["ate_rmse_m"] = nullptr;
+    j["ate_max_m"] = nullptr;
+    j["ate_matched"] = 0;
+  }
+  if (s.odometry_ate) {
+    j["odometry_ate_rmse_m"] = s.odometry_ate->rmse_m;
+    j["odometry_ate_max_m"] = s.odometry_ate->max_m;
+  }
+  j["external_conflict_scale"] = s.external_conflict_scale;
+  j["map_width"] = s.map_width;
+  j["map_height"] = s.map_height;
+  j["outputs"] = s.outputs;
+
+  std::ofstream out(path);
+  if (!out) {
+    if (error) *error = "cannot write '" + path + "'";
+    return false;
+  }
+  // Invalid UTF-8 in a path or message is replaced rather than thrown.
+  out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+  out.close();
+  if (!out) {
+    if (error) *error = "error writing '" + path + "'";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace io
+}  // namespace evidential_slam

@@ -1,0 +1,334 @@
+// End to end: runs the built evidential_slam_offline binary on the committed simul-gridmap fixture
+// (both rawlog formats) and on broken variants made here, then checks exit codes, messages,
+// outputs and the value ranges of every layer.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "evidential_slam/core/measures.h"
+#include "evidential_slam/io/npy.h"
+#include "evidential_slam/io/trajectory_io.h"
+#include "rawlog_fixtures.h"
+#include "test_util.h"
+
+namespace evidential_slam {
+namespace {
+
+namespace fs = std::filesystem;
+using test::dataPath;
+
+constexpr int kFixtureScans = 159;
+// Few particles keep the suite fast; the fixture's odometry drifts ~0.7 m RMSE, SLAM gets ~0.02 m.
+const std::vector<std::string> kFast = {"--particles", "20", "--seed", "3", "--threads", "2"};
+
+struct Result {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+Result runOffline(const std::vector<std::string>& args, const fs::path& scratch) {
+  std::string cmd = quote(ES_OFFLINE_BIN);
+  for (const auto& a : args) cmd += " " + quote(a);
+  const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+  cmd += " > " + quote(out.string()) + " 2> " + quote(err.string()) + " < /dev/null";
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = test::readText(out);
+  r.err = test::readText(err);
+  return r;
+}
+
+std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+int lineCount(const std::string& s) {
+  return static_cast<int>(std::count(s.begin(), s.end(), '\n'));
+}
+
+nlohmann::json summaryOf(const fs::path& out_dir) {
+  return nlohmann::json::parse(test::readText(out_dir / "summary.json"));
+}
+
+// Every output file, the trajectory and the value ranges of the layers.
+void checkOutputs(const fs::path& out, int scans) {
+  const fs::path layers = out / "layers";
+  for (const std::string& name : layerNames()) {
+    EXPECT_TRUE(fs::is_regular_file(layers / (name + ".png"))) << name;
+    EXPECT_TRUE(fs::is_regular_file(layers / (name + ".npy"))) << name;
+  }
+  EXPECT_TRUE(fs::is_regular_file(layers / "composite.png"));
+  EXPECT_TRUE(fs::is_regular_file(layers / "observed.npy"));
+  EXPECT_TRUE(fs::is_regular_file(layers / "map.yaml"));
+
+  std::vector<StampedPose> path;
+  std::string error;
+  ASSERT_TRUE(io::readTumTrajectory((out / "trajectory.tum").string(), &path, &error)) << error;
+  EXPECT_EQ(static_cast<int>(path.size()), scans);
+
+  std::map<std::string, std::vector<float>> v;
+  size_t cells = 0;
+  for (const std::string& name : layerNames()) {
+    io::NpyArray a;
+    ASSERT_TRUE(io::readNpy((layers / (name + ".npy")).string(), &a, &error)) << error;
+    ASSERT_EQ(a.shape.size(), 2u);
+    v[name] = a.asFloat32();
+    ASSERT_EQ(v[name].size(), a.shape[0] * a.shape[1]) << name;
+    cells = v[name].size();
+  }
+  ASSERT_GT(cells, 0u);
+  // Masses and BetP in [0, 1] up to float rounding (m(Θ) = 1 - m(o) - m(e) can come out -1e-8).
+  constexpr float kTol = 1e-6f;
+  size_t bad_sum = 0, out_of_range = 0, negative_ec = 0, not_finite = 0, bits_out_of_range = 0;
+  for (size_t i = 0; i < cells; ++i) {
+    const float o = v["occupied"][i], e = v["free"][i], u = v["unknown"][i], c = v["conflict"][i];
+    for (float m : {o, e, u, c, v["pignistic"][i], v["nonspecificity"][i]}) {
+      if (!(m >= -kTol && m <= 1.0f + kTol)) ++out_of_range;
+    }
+    if (std::abs(o + e + u + c - 1.0f) > 1e-4f) ++bad_sum;
+    if (!(v["external_conflict"][i] >= 0.0f)) ++negative_ec;
+    for (const std::string& name : layerNames()) not_finite += !std::isfinite(v[name][i]);
+    // IC and H are in bits over a two-element frame: [0, 1].
+    for (float b : {v["internal_conflict"][i], v["entropy"][i]}) {
+      if (!(b >= -kTol && b <= 1.0f + kTol)) ++bits_out_of_range;
+    }
+  }
+  EXPECT_EQ(out_of_range, 0u);
+  EXPECT_EQ(bad_sum, 0u);
+  EXPECT_EQ(negative_ec, 0u);
+  EXPECT_EQ(not_finite, 0u) << "layer values must be finite";
+  EXPECT_EQ(bits_out_of_range, 0u) << "internal conflict / entropy outside [0, 1] bit";
+}
+
+class OfflineE2E : public ::testing::Test {
+ protected:
+  fs::path scratch_ = test::scratchDir();
+};
+
+TEST_F(OfflineE2E, ActionsSensoryFrameFixture) {
+  const fs::path out = scratch_ / "out";
+  const Result r = runOffline(concat({"--rawlog", dataPath("sim.rawlog"), "--out", out.string(),
+                                      "--ground-truth", dataPath("sim.GT.txt")},
+                                     kFast),
+                              scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("error"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("ATE:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("summary.json"), std::string::npos) << r.out;
+  checkOutputs(out, kFixtureScans);
+
+  const auto j = summaryOf(out);
+  for (const char* key :
+       {"rawlog", "scans_total", "scans_processed", "scans_rejected", "rays_total", "rays_bad",
+        "rays_no_return", "wall_time_s", "peak_rss_mb", "particles", "resolution", "seed",
+        "threads", "truncated", "warnings", "ate_rmse_m", "ate_max_m", "ate_matched"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["scans_total"], kFixtureScans);
+  EXPECT_GT(j["scans_processed"].get<int>(), 20);
+  EXPECT_EQ(j["scans_rejected"], 0);
+  EXPECT_EQ(j["rays_total"], kFixtureScans * 181);
+  EXPECT_EQ(j["rays_bad"], 0);
+  EXPECT_EQ(j["truncated"], false);
+  EXPECT_EQ(j["particles"], 20);
+  EXPECT_EQ(j["seed"], 3);
+  EXPECT_EQ(j["ate_matched"], kFixtureScans);
+  EXPECT_GT(j["peak_rss_mb"].get<double>(), 1.0);
+  // SLAM beats the drifting odometry by a wide margin.
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.15);
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.5 * j["odometry_ate_rmse_m"].get<double>());
+}
+
+TEST_F(OfflineE2E, ObservationOnlyFixture) {
+  const fs::path out = scratch_ / "out";
+  const Result r = runOffline(concat({"--rawlog", dataPath("sim_obs.rawlog"), "--out", out.string(),
+                                      "--ground-truth", dataPath("sim.GT.txt"), "--quiet"},
+                                     kFast),
+                              scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // --quiet
+  checkOutputs(out, kFixtureScans);
+  const auto j = summaryOf(out);
+  EXPECT_EQ(j["rawlog_format"], "observations");
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.15);
+}
+
+TEST_F(OfflineE2E, MissingFile) {
+  const Result r = runOffline(
+      {"--rawlog", (scratch_ / "nope.rawlog").string(), "--out", (scratch_ / "out").string()},
+      scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
+TEST_F(OfflineE2E, NotARawlog) {
+  test::writeText(scratch_ / "notes.rawlog", "this is not a rawlog\n");
+  const Result r = runOffline(
+      {"--rawlog", (scratch_ / "notes.rawlog").string(), "--out", (scratch_ / "out").string()},
+      scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("error: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not an MRPT rawlog"), std::string::npos) << r.err;
+}
+
+TEST_F(OfflineE2E, TruncatedLogStillWritesOutputs) {
+  const fs::path cut = scratch_ / "cut.rawlog";
+  std::string error;
+  ASSERT_TRUE(test::truncateCopy(dataPath("sim.rawlog"), cut.string(), 0.6, &error)) << error;
+  const fs::path out = scratch_ / "out";
+  const Result r = runOffline(concat({"--rawlog", cut.string(), "--out", out.string(),
+                                      "--ground-truth", dataPath("sim.GT.txt")},
+                                     kFast),
+                              scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+  const auto j = summaryOf(out);
+  EXPECT_EQ(j["truncated"], true);
+  const int scans = j["scans_total"].get<int>();
+  EXPECT_GT(scans, 20);
+  EXPECT_LT(scans, kFixtureScans);
+  EXPECT_LT(j["scans_processed"].get<int>(), scans + 1);
+  EXPECT_FALSE(j["warnings"].empty());
+  checkOutputs(out, scans);
+}
+
+TEST_F(OfflineE2E, LogWithoutLaser) {
+  const fs::path log = scratch_ / "no_laser.rawlog";
+  std::string error;
+  ASSERT_TRUE(
+      test::makeVariant(dataPath("sim.rawlog"), log.string(), test::Variant::kNoLaser, &error))
+      << error;
+  const Result r =
+      runOffline({"--rawlog", log.string(), "--out", (scratch_ / "out").string()}, scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("error: no 2-D laser scans"), std::string::npos) << r.err;
+}
+
+TEST_F(OfflineE2E, LogWithoutOdometry) {
+  for (const char* fixture : {"sim.rawlog", "sim_obs.rawlog"}) {
+    const fs::path log = scratch_ / "no_odometry.rawlog";
+    std::string error;
+    ASSERT_TRUE(
+        test::makeVariant(dataPath(fixture), log.string(), test::Variant::kNoOdometry, &error))
+        << error;
+    const Result r =
+        runOffline({"--rawlog", log.string(), "--out", (scratch_ / "out").string()}, scratch_);
+    EXPECT_EQ(r.exit_code, 2) << fixture;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: no odometry"), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(OfflineE2E, BadRangesAreSkippedAndCounted) {
+  const fs::path log = scratch_ / "bad_ranges.rawlog";
+  std::string error;
+  ASSERT_TRUE(
+      test::makeVariant(dataPath("sim.rawlog"), log.string(), test::Variant::kBadRanges, &error))
+      << error;
+  const fs::path out = scratch_ / "out";
+  const Result r = runOffline(concat({"--rawlog", log.string(), "--out", out.string(),
+                                      "--ground-truth", dataPath("sim.GT.txt")},
+                                     kFast),
+                              scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = summaryOf(out);
+  EXPECT_EQ(j["rays_bad"], 3 * kFixtureScans);  // NaN, +inf and -1 in every scan
+  EXPECT_EQ(j["scans_rejected"], 0);
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.15);
+  EXPECT_NE(r.err.find("NaN, infinite or negative"), std::string::npos) << r.err;
+  checkOutputs(out, kFixtureScans);
+}
+
+TEST_F(OfflineE2E, RejectedScansAreCountedAndWarnedAboutSparingly) {
+  const fs::path log = scratch_ / "unusable.rawlog";
+  std::string error;
+  ASSERT_TRUE(test::makeVariant(dataPath("sim_obs.rawlog"), log.string(),
+                                test::Variant::kUnusableScans, &error))
+      << error;
+  const fs::path out = scratch_ / "out";
+  const Result r = runOffline(concat({"--rawlog", log.string(), "--out", out.string(),
+                                      "--ground-truth", dataPath("sim.GT.txt")},
+                                     kFast),
+                              scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = summaryOf(out);
+  const int rejected = kFixtureScans / 10;
+  EXPECT_EQ(j["scans_rejected"], rejected);
+  EXPECT_EQ(j["rays_bad"], rejected * 181);
+  // Three rejections are reported one by one, then a single note; the total comes at the end.
+  size_t shown = 0;
+  for (size_t at = r.err.find("rejected:"); at != std::string::npos;
+       at = r.err.find("rejected:", at + 1)) {
+    ++shown;
+  }
+  EXPECT_EQ(shown, 3u) << r.err;
+  EXPECT_NE(r.err.find("further rejected scans are only counted"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(std::to_string(rejected) + " of 159 scans were rejected"), std::string::npos)
+      << r.err;
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.15);
+  checkOutputs(out, kFixtureScans);
+}
+
+TEST_F(OfflineE2E, BadUsageAndUnwritableOutput) {
+  Result r = runOffline({}, scratch_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  r = runOffline({"--rawlog", dataPath("sim.rawlog"), "--out", "x", "--particles", "0"}, scratch_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  r = runOffline({"--help"}, scratch_);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("usage:"), std::string::npos);
+  // The output directory is a file.
+  test::writeText(scratch_ / "file", "x");
+  r = runOffline({"--rawlog", dataPath("sim.rawlog"), "--out", (scratch_ / "file").string()},
+                 scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("cannot create output directory"), std::string::npos) << r.err;
+  // A malformed ground truth is reported before any work.
+  test::writeText(scratch_ / "gt.txt", "1 2 3\n");
+  r = runOffline({"--rawlog", dataPath("sim.rawlog"), "--out", (scratch_ / "o").string(),
+                  "--ground-truth", (scratch_ / "gt.txt").string()},
+                 scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("gt.txt:1:"), std::string::npos) << r.err;
+}
+
+TEST_F(OfflineE2E, MaxScans) {
+  const fs::path out = scratch_ / "out";
+  const Result r = runOffline(
+      concat({"--rawlog", dataPath("sim.rawlog"), "--out", out.string(), "--max-scans", "40"},
+             kFast),
+      scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summaryOf(out)["scans_total"], 40);
+  // Not a TTY: progress comes as whole lines, about one per 10 %.
+  EXPECT_EQ(r.err.find('\r'), std::string::npos);
+  EXPECT_GE(lineCount(r.err), 5);
+  checkOutputs(out, 40);
+}
+
+}  // namespace
+}  // namespace evidential_slam
