@@ -59,7 +59,7 @@ class ScanMatcherTest : public testing::Test {
   ScanMatcher matcher_;
   EvidentialGrid map_{0.05};
   Pose2 truth_;
-  std::vector<Eigen::Vector2d> endpoints_;
+  std::vector<MatchPoint> endpoints_;
 };
 
 // The score of the true pose beats that of shifted / rotated poses.
