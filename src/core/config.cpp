@@ -1,5 +1,6 @@
 #include "evidential_slam/core/config.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace evidential_slam {
@@ -43,6 +44,15 @@ bool SensorModelConfig::isValid(std::string* why) const {
       .ok();
 }
 
+SensorModelConfig SensorModelConfig::forSensorNoise(double range_sigma, double resolution) const {
+  SensorModelConfig c = *this;
+  if (!(range_sigma > 0.0) || !std::isfinite(range_sigma)) return c;
+  c.hit_sigma = std::max(hit_sigma, range_sigma);
+  c.forward_sigma =
+      std::max(forward_sigma, std::sqrt(range_sigma * range_sigma + resolution * resolution / 12.0));
+  return c;
+}
+
 bool MotionModelConfig::isValid(std::string* why) const {
   return Checker(why)
       .require(nonNegativeFinite(alpha_rot_rot), "alpha_rot_rot must be >= 0")
@@ -72,6 +82,14 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
       .ok();
 }
 
+ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma) const {
+  ScanMatcherConfig c = *this;
+  if (!(range_sigma > 0.0) || !std::isfinite(range_sigma)) return c;
+  c.score_sigma = std::max(score_sigma, range_sigma);
+  c.search_radius = std::max(search_radius, 1.5 * range_sigma);
+  return c;
+}
+
 bool SlamConfig::isValid(std::string* why) const {
   if (!Checker(why)
            .require(particles >= 1 && particles <= 100000, "particles must be in [1, 100000]")
@@ -80,7 +98,7 @@ bool SlamConfig::isValid(std::string* why) const {
            .require(threads >= 0 && threads <= 256, "threads must be in [0, 256] (0 = all cores)")
            .require(nonNegativeFinite(update_min_distance), "update_min_distance must be >= 0")
            .require(nonNegativeFinite(update_min_angle), "update_min_angle must be >= 0")
-           .require(positiveFinite(likelihood_gamma), "likelihood_gamma must be > 0")
+           .require(positiveFinite(likelihood_temperature), "likelihood_temperature must be > 0")
            .require(resample_threshold >= 0.0 && resample_threshold <= 1.0,
                     "resample_threshold must be in [0, 1]")
            .require(nonNegativeFinite(merge_distance), "merge_distance must be >= 0")

@@ -63,7 +63,7 @@ void EvidentialGrid::ensureTile(int tx, int ty) {
   tiles_h_ = h;
 }
 
-Cell& EvidentialGrid::mutableCell(int cx, int cy) {
+Cell& EvidentialGrid::mutableCellSlow(int cx, int cy) {
   const int tx = cx >> kTileBits, ty = cy >> kTileBits;
   ensureTile(tx, ty);
   std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];

@@ -88,7 +88,7 @@ void updateCell(Cell& cell, const ScanMass& scan) {
   e = std::min(std::max(e, 0.0f), 1.0f - o);
   cell.occupied = o;
   cell.free = e;
-  cell.lambda -= std::log1p(-std::min(k, 1.0f - 1e-9f));
+  if (k > 0.0f) cell.lambda -= std::log1p(-std::min(k, 1.0f - 1e-9f));
 }
 
 }  // namespace evidential_slam

@@ -21,6 +21,24 @@ PathNode::~PathNode() {
   }
 }
 
+struct ParticleFilter::ScanModels {
+  ScanModels(const SlamConfig& config, float range_sigma)
+      : beam(config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
+        matcher(config.matcher.forSensorNoise(range_sigma),
+                config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution) {}
+  BeamModel beam;
+  ScanMatcher matcher;
+};
+
+const ParticleFilter::ScanModels& ParticleFilter::modelsFor(const LaserScan& scan) {
+  const float sigma = std::isfinite(scan.range_sigma) && scan.range_sigma > 0.0f ? scan.range_sigma : 0.0f;
+  for (const auto& m : models_) {
+    if (m.first == sigma) return *m.second;
+  }
+  models_.emplace_back(sigma, std::make_unique<ScanModels>(config_, sigma));
+  return *models_.back().second;
+}
+
 struct ParticleFilter::Workspace {
   TracedScan traced;
   ScanAccumulator accumulator;
@@ -28,8 +46,6 @@ struct ParticleFilter::Workspace {
 
 ParticleFilter::ParticleFilter(const SlamConfig& config)
     : config_(config),
-      beam_model_(std::make_unique<BeamModel>(config.sensor, config.resolution)),
-      matcher_(std::make_unique<ScanMatcher>(config.matcher, config.sensor, config.resolution)),
       pool_(std::make_unique<WorkerPool>(config.threads)) {
   for (int i = 0; i < pool_->size(); ++i) workspaces_.push_back(std::make_unique<Workspace>());
 }
@@ -78,11 +94,12 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   // All particles would integrate the same scan at the same pose: do it once and share the tiles.
   Particle& first = particles_.front();
   Workspace& ws = *workspaces_.front();
-  beam_model_->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
+  const BeamModel* beam_model = &modelsFor(scan).beam;
+  beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
   FilterStepInfo info;
   info.rays_bad = ws.traced.rays_bad;
   info.rays_no_return = ws.traced.rays_no_return;
-  info.best_conflict_added_bits = beam_model_->integrateScan(ws.traced, &first.map, &ws.accumulator);
+  info.best_conflict_added_bits = beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator);
   auto root = std::make_shared<PathNode>();
   root->pose = pose;
   root->step = step;
@@ -98,8 +115,11 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
 }
 
 FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& scan, int step) {
-  const std::vector<Eigen::Vector2d> endpoints = matcher_->endpoints(scan);
-  const double exponent = 1.0 / (config_.likelihood_gamma * static_cast<double>(particles_.size()));
+  const ScanModels& models = modelsFor(scan);
+  const BeamModel* beam_model = &models.beam;
+  const ScanMatcher* matcher = &models.matcher;
+  const std::vector<MatchPoint> endpoints = matcher->endpoints(scan);
+  const double exponent = 1.0 / config_.likelihood_temperature;
   const size_t n = particles_.size();
 
   // 1. Proposal: sample the motion model, refine against the particle's own map.
@@ -108,7 +128,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     Rng rng = Rng::forStream(config_.seed, static_cast<uint64_t>(step), k);
     Pose2 pose = sampleMotion(particles_[k].pose, increment, config_.motion, &rng);
     if (config_.matcher.enabled && !endpoints.empty()) {
-      pose = matcher_->refine(particles_[k].map, pose, endpoints);
+      pose = matcher->refine(particles_[k].map, pose, endpoints);
     }
     proposed[k] = pose;
   });
@@ -139,9 +159,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-    beam_model_->traceScan(proposed[leaders[g]].compose(scan.sensor_pose), scan, &ws.traced);
-    log_pl[g] = beam_model_->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
-    conflict_added[g] = beam_model_->integrateScan(ws.traced, &p.map, &ws.accumulator);
+    beam_model->traceScan(proposed[leaders[g]].compose(scan.sensor_pose), scan, &ws.traced);
+    log_pl[g] = beam_model->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
+    conflict_added[g] = beam_model->integrateScan(ws.traced, &p.map, &ws.accumulator);
     bad[g] = ws.traced.rays_bad;
     no_return[g] = ws.traced.rays_no_return;
   });

@@ -6,7 +6,7 @@
 namespace evidential_slam {
 namespace {
 constexpr double kKernelStepsPerCell2 = 64.0;
-// Cauchy weight scale (m): endpoints far from any matching cell count less.
+// Cauchy weight scale (m): endpoints far from their matched cell count less.
 constexpr double kRobustScale = 0.1;
 constexpr double kConvergedTranslation = 1e-4;  // m
 constexpr double kConvergedRotation = 1e-4;     // rad
@@ -33,8 +33,8 @@ ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfi
   }
 }
 
-std::vector<Eigen::Vector2d> ScanMatcher::endpoints(const LaserScan& scan) const {
-  std::vector<Eigen::Vector2d> pts;
+std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan) const {
+  std::vector<MatchPoint> pts;
   const double limit = std::min<double>(sensor_.usable_range,
                                         scan.max_range > 0.0f ? scan.max_range : sensor_.usable_range);
   int k = 0;
@@ -43,26 +43,33 @@ std::vector<Eigen::Vector2d> ScanMatcher::endpoints(const LaserScan& scan) const
     if (!scan.valid.empty() && scan.valid[i] == 0) continue;
     if (!std::isfinite(z) || z < sensor_.min_range || z >= limit) continue;
     if (k++ % config_.beam_stride != 0) continue;
-    const Eigen::Vector2d in_sensor(z * std::cos(scan.bearings[i]), z * std::sin(scan.bearings[i]));
-    pts.push_back(scan.sensor_pose.transformPoint(in_sensor));
+    const Eigen::Vector2d dir(std::cos(scan.bearings[i]), std::sin(scan.bearings[i]));
+    // Probe in front of the inverse model's Θ gap (k_i·σ + Δ/2), where repeated passes make cells free.
+    const double back = std::min(sensor_.free_gap * sensor_.hit_sigma + 1.5 * resolution_, 0.5 * z);
+    pts.push_back(MatchPoint{scan.sensor_pose.transformPoint(z * dir),
+                             scan.sensor_pose.transformPoint((z - back) * dir)});
   }
   return pts;
 }
 
 double ScanMatcher::score(const EvidentialGrid& map, const Pose2& pose,
-                          const std::vector<Eigen::Vector2d>& pts) const {
+                          const std::vector<MatchPoint>& pts) const {
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   const double inv_res = 1.0 / resolution_;
   double total = 0.0;
-  for (const Eigen::Vector2d& p : pts) {
-    const double fx = (pose.x + c * p.x() - s * p.y()) * inv_res;
-    const double fy = (pose.y + s * p.x() + c * p.y()) * inv_res;
+  for (const MatchPoint& p : pts) {
+    const double fx = (pose.x + c * p.hit.x() - s * p.hit.y()) * inv_res;
+    const double fy = (pose.y + s * p.hit.x() + c * p.hit.y()) * inv_res;
     const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
+    const int jx = static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) * inv_res));
+    const int jy = static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) * inv_res));
     float best = 0.0f;
     for (int dy = -1; dy <= 1; ++dy) {
       const double ddy = iy + dy + 0.5 - fy;
       for (int dx = -1; dx <= 1; ++dx) {
-        const float occ = map.cell(ix + dx, iy + dy).occupied;
+        float occ = map.cell(ix + dx, iy + dy).occupied;
+        if (occ <= best) continue;
+        occ *= map.cell(jx + dx, jy + dy).free;
         if (occ <= best) continue;
         const double ddx = ix + dx + 0.5 - fx;
         const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
@@ -74,7 +81,7 @@ double ScanMatcher::score(const EvidentialGrid& map, const Pose2& pose,
   return total;
 }
 
-bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<Eigen::Vector2d>& pts,
+bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<MatchPoint>& pts,
                           Pose2* pose) const {
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
   const float threshold = static_cast<float>(config_.occupied_threshold);
@@ -84,12 +91,15 @@ bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<Eigen::Ve
   pairs.reserve(pts.size());
   std::vector<double> weights;
   weights.reserve(pts.size());
-  for (const Eigen::Vector2d& p : pts) {
-    const double qx = pose->x + c * p.x() - s * p.y();
-    const double qy = pose->y + s * p.x() + c * p.y();
+  for (const MatchPoint& p : pts) {
+    const double qx = pose->x + c * p.hit.x() - s * p.hit.y();
+    const double qy = pose->y + s * p.hit.x() + c * p.hit.y();
     const CellIndex q = map.worldToCell(qx, qy);
+    const CellIndex f = map.worldToCell(pose->x + c * p.free.x() - s * p.free.y(),
+                                        pose->y + s * p.free.x() + c * p.free.y());
     for (const CellIndex& o : spiral_) {
       if (map.cell(q.x + o.x, q.y + o.y).occupied < threshold) continue;
+      if (map.cell(f.x + o.x, f.y + o.y).free < threshold) continue;
       const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
       const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
       const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
@@ -124,7 +134,7 @@ bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<Eigen::Ve
 }
 
 Pose2 ScanMatcher::hillClimb(const EvidentialGrid& map, const Pose2& start,
-                             const std::vector<Eigen::Vector2d>& pts) const {
+                             const std::vector<MatchPoint>& pts) const {
   Pose2 current = start;
   double current_score = score(map, current, pts);
   double lin = config_.linear_step, ang = config_.angular_step;
@@ -156,7 +166,7 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGrid& map, const Pose2& start,
 }
 
 Pose2 ScanMatcher::refine(const EvidentialGrid& map, const Pose2& initial,
-                          const std::vector<Eigen::Vector2d>& pts) const {
+                          const std::vector<MatchPoint>& pts) const {
   if (pts.empty()) return initial;
   Pose2 pose = initial;
   for (int it = 0; it < config_.icp_iterations; ++it) {

@@ -24,43 +24,27 @@ void TracedScan::clear() {
 }
 
 void ScanAccumulator::reset(const CellIndex& center, int half_size) {
-  center_ = center;
   if (half_size != half_) {
     half_ = half_size;
     side_ = 2 * half_ + 1;
-    entries_.assign(static_cast<size_t>(side_) * side_, Entry{});
+    slots_.assign(static_cast<size_t>(side_) * side_, Slot{});
     stamp_ = 0;
   }
+  origin_x_ = center.x - half_;
+  origin_y_ = center.y - half_;
   touched_.clear();
   if (++stamp_ == 0) {  // wrapped: forget every old stamp
-    for (Entry& e : entries_) e.stamp = 0;
+    for (Slot& slot : slots_) slot.stamp = 0;
     stamp_ = 1;
   }
 }
 
-bool ScanAccumulator::add(int x, int y, const ScanMass& m) {
-  const int lx = x - center_.x + half_, ly = y - center_.y + half_;
-  if (lx < 0 || ly < 0 || lx >= side_ || ly >= side_) return false;
-  const uint32_t idx = static_cast<uint32_t>(ly) * side_ + lx;
-  Entry& e = entries_[idx];
-  if (e.stamp != stamp_) {
-    e.stamp = stamp_;
-    e.mass = m;
-    touched_.push_back(idx);
-  } else {
-    e.mass = fuseDempster(e.mass, m);
-  }
-  return true;
-}
-
 double ScanAccumulator::applyTo(EvidentialGrid* map) const {
   double added = 0.0;
-  for (uint32_t idx : touched_) {
-    const int x = center_.x - half_ + static_cast<int>(idx % side_);
-    const int y = center_.y - half_ + static_cast<int>(idx / side_);
-    Cell& c = map->mutableCell(x, y);
+  for (const Touched& t : touched_) {
+    Cell& c = map->mutableCell(t.x, t.y);
     const float before = c.lambda;
-    updateCell(c, entries_[idx].mass);
+    updateCell(c, t.mass);
     added += c.lambda - before;
   }
   return added;
@@ -75,6 +59,7 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
   beyond_hit_ = std::max(2.5 * resolution_, (kf + 4.0) * sf);
 
   table_step_ = std::min(sf, si) / kTableStepsPerSigma;
+  inv_table_step_ = 1.0 / table_step_;
   g_half_ = (kf + 8.0) * sf;
   const int g_n = static_cast<int>(std::ceil(2.0 * g_half_ / table_step_)) + 1;
   g_table_.resize(g_n);
@@ -104,13 +89,13 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
 
 float BeamModel::hitWindow(double delta) const {
   if (delta <= -g_half_ || delta >= g_half_) return 0.0f;
-  return g_table_[static_cast<size_t>(std::lround((delta + g_half_) / table_step_))];
+  return g_table_[static_cast<size_t>((delta + g_half_) * inv_table_step_ + 0.5)];
 }
 
 ScanMass BeamModel::inverseMass(double s) const {
   if (s <= s_min_) return clearMass();
   if (s >= s_max_) return ScanMass{};
-  return inverse_table_[static_cast<size_t>(std::lround((s - s_min_) / table_step_))];
+  return inverse_table_[static_cast<size_t>((s - s_min_) * inv_table_step_ + 0.5)];
 }
 
 ScanMass BeamModel::clearMass() const {
@@ -168,17 +153,22 @@ void BeamModel::traceRay(const Eigen::Vector2d& origin, double angle, double len
   double t_max_y = ady > 1e-12 ? (step_y > 0 ? cy + 1 - oy : oy - cy) / ady : kInf;
   const double t_delta_x = adx > 1e-12 ? 1.0 / adx : kInf;
   const double t_delta_y = ady > 1e-12 ? 1.0 / ady : kInf;
+  // Distance of the cell centre along the beam, updated incrementally as the traversal steps.
+  double dist = ((cx + 0.5 - ox) * dx + (cy + 0.5 - oy) * dy) * resolution_;
+  const double dist_step_x = step_x * dx * resolution_, dist_step_y = step_y * dy * resolution_;
+  out->reserve(out->size() + static_cast<size_t>(2.0 * t_end) + 4);
   for (;;) {
-    const double dist = ((cx + 0.5 - ox) * dx + (cy + 0.5 - oy) * dy) * resolution_;
     out->push_back(RayCell{cx, cy, static_cast<float>(dist)});
     if (t_max_x < t_max_y) {
       if (t_max_x > t_end) break;
       cx += step_x;
       t_max_x += t_delta_x;
+      dist += dist_step_x;
     } else {
       if (t_max_y > t_end) break;
       cy += step_y;
       t_max_y += t_delta_y;
+      dist += dist_step_y;
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "evidential_slam/core/slam_engine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -93,16 +94,35 @@ Pose2 SlamEngine::mapToOdom() const { return bestPose().compose(last_odometry_.i
 std::vector<StampedPose> SlamEngine::bestTrajectory() const {
   std::vector<StampedPose> out;
   out.reserve(scan_records_.size());
-  std::vector<Pose2> step_pose(step_odometry_.size());
+  const size_t steps = step_odometry_.size();
+  std::vector<Pose2> step_pose(steps);
+  std::vector<double> step_stamp(steps, 0.0);
   if (!filter_->particles().empty()) {
     for (const PathNode* n = filter_->best().path.get(); n != nullptr; n = n->parent.get()) {
-      if (n->step >= 0 && static_cast<size_t>(n->step) < step_pose.size()) step_pose[n->step] = n->pose;
+      if (n->step >= 0 && static_cast<size_t>(n->step) < steps) step_pose[n->step] = n->pose;
     }
   }
   for (const ScanRecord& r : scan_records_) {
-    Pose2 pose = r.odometry;  // before the first processed scan the map frame is the odom frame
-    if (r.step >= 0) {
-      pose = step_pose[r.step].compose(step_odometry_[r.step].between(r.odometry));
+    if (r.step >= 0 && step_odometry_[r.step].x == r.odometry.x &&
+        step_odometry_[r.step].y == r.odometry.y && step_odometry_[r.step].theta == r.odometry.theta) {
+      step_stamp[r.step] = r.stamp;
+    }
+  }
+  for (const ScanRecord& r : scan_records_) {
+    if (r.step < 0) {  // before the first processed scan the map frame is the odom frame
+      out.push_back(StampedPose{r.stamp, r.odometry});
+      continue;
+    }
+    const size_t s = static_cast<size_t>(r.step);
+    // Dead reckoning from the processed scan before this one...
+    Pose2 pose = step_pose[s].compose(step_odometry_[s].between(r.odometry));
+    if (s + 1 < steps && step_stamp[s + 1] > step_stamp[s]) {
+      // ...with the odometry's drift up to the next processed scan spread over the segment in
+      // proportion to time (the path is written after the fact, so both ends are known).
+      const Pose2 predicted_next = step_pose[s].compose(step_odometry_[s].between(step_odometry_[s + 1]));
+      const Pose2 drift = predicted_next.between(step_pose[s + 1]);
+      const double alpha = std::clamp((r.stamp - step_stamp[s]) / (step_stamp[s + 1] - step_stamp[s]), 0.0, 1.0);
+      pose = pose.compose(Pose2(alpha * drift.x, alpha * drift.y, alpha * drift.theta));
     }
     out.push_back(StampedPose{r.stamp, pose});
   }

@@ -170,6 +170,7 @@ struct RawlogReader::Impl {
     const bool flipped = R(2, 2) < 0.0;
     s.sensor_pose = Pose2(obs.sensorPose.x(), obs.sensorPose.y(), yaw);
     s.max_range = obs.maxRange;
+    s.range_sigma = obs.stdError;  // the sensor's declared range noise feeds the beam models
     const size_t n = obs.getScanSize();
     s.ranges.resize(n);
     s.bearings.resize(n);

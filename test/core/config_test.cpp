@@ -26,7 +26,7 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_DOUBLE_EQ(c.resolution, 0.05);
   EXPECT_DOUBLE_EQ(c.update_min_distance, 0.5);
   EXPECT_NEAR(c.update_min_angle, 0.17453292519943295, 1e-12);  // 10° = π/18
-  EXPECT_DOUBLE_EQ(c.likelihood_gamma, 3.0);
+  EXPECT_DOUBLE_EQ(c.likelihood_temperature, 20.0);
   EXPECT_DOUBLE_EQ(c.resample_threshold, 0.5);
   EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
   EXPECT_DOUBLE_EQ(c.sensor.prior_occupied, 0.4);

@@ -221,3 +221,56 @@ TEST(ParticleFilterTest, DeterministicForSeed) {
 
 }  // namespace
 }  // namespace evidential_slam
+
+namespace evidential_slam {
+namespace {
+
+// A scan that declares its range noise is modelled with it: one beam along +x with z = 2.0 m
+// (the hit at x = 2.0 lies inside cell (40, 0), whose centre is 2.025 m away: s = +0.025 m).
+// m_hit = Φ((s + Δ/2)/σ) - Φ((s - Δ/2)/σ) = Φ(0.05/σ) - Φ(0), η = 1/(1 - 0.4(1 - m_hit)),
+// o = 0.8·η·m_hit. Default model (σ = 0.025): m_hit = Φ(2) - 0.5 = 0.4772499, η = 1.2643824,
+// o = 0.4827411. Declared σ = 0.3: m_hit = Φ(1/6) - 0.5 = 0.0661838, η = 1.5962366, o = 0.0845160.
+TEST(ParticleFilterTest, DeclaredRangeNoiseWidensTheModel) {
+  SlamConfig config;
+  config.particles = 2;
+  config.threads = 1;
+  LaserScan scan;
+  scan.max_range = 30.0f;
+  scan.ranges = {2.0f};
+  scan.bearings = {0.0f};
+  scan.valid = {1};
+  const Pose2 origin(0.0, 0.001, 0.0);  // cell (0, 0); x = 0 keeps s = 2.025 - 2.0 exactly
+
+  ParticleFilter precise(config);
+  precise.initialize(origin, scan, 0);
+  const Cell& precise_hit = precise.best().map.cell(40, 0);
+  EXPECT_NEAR(precise_hit.occupied, 0.4827411, 2e-3);
+
+  scan.range_sigma = 0.3f;
+  ParticleFilter noisy(config);
+  noisy.initialize(origin, scan, 0);
+  const Cell& noisy_hit = noisy.best().map.cell(40, 0);
+  EXPECT_NEAR(noisy_hit.occupied, 0.0845160, 2e-3);
+}
+
+// forSensorNoise: σ_i = max(σ_i, σ_range), σ_f = max(σ_f, √(σ_range² + Δ²/12)); a sensor more
+// precise than the configured model, or one that declares nothing, leaves it unchanged.
+TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
+  const SensorModelConfig base;  // σ_i = σ_f = 0.025
+  const SensorModelConfig noisy = base.forSensorNoise(0.3, 0.05);
+  EXPECT_DOUBLE_EQ(noisy.hit_sigma, 0.3);
+  EXPECT_NEAR(noisy.forward_sigma, 0.3003470, 1e-6);  // √(0.09 + 0.0025/12)
+  const SensorModelConfig precise = base.forSensorNoise(0.01, 0.05);  // √(1e-4 + 2.08e-4) = 0.0176
+  EXPECT_DOUBLE_EQ(precise.hit_sigma, 0.025);
+  EXPECT_DOUBLE_EQ(precise.forward_sigma, 0.025);
+  EXPECT_DOUBLE_EQ(base.forSensorNoise(0.0, 0.05).hit_sigma, 0.025);
+  EXPECT_DOUBLE_EQ(base.forSensorNoise(std::nan(""), 0.05).forward_sigma, 0.025);
+
+  const ScanMatcherConfig matcher;
+  EXPECT_DOUBLE_EQ(matcher.forSensorNoise(0.3).score_sigma, 0.3);
+  EXPECT_DOUBLE_EQ(matcher.forSensorNoise(0.3).search_radius, 0.45);
+  EXPECT_DOUBLE_EQ(matcher.forSensorNoise(0.01).score_sigma, matcher.score_sigma);
+}
+
+}  // namespace
+}  // namespace evidential_slam

@@ -72,6 +72,9 @@ TEST(RawlogReader, ReadsActionsSensoryFramesFixture) {
     EXPECT_NEAR(s.bearings.front(), -M_PI / 2, 1e-5);
     EXPECT_NEAR(s.bearings.back(), M_PI / 2, 1e-5);
     EXPECT_GT(s.max_range, 0.0f);
+    // simul-gridmap declares 0.01 m range noise (CObservation2DRangeScan::stdError); the beam
+    // models use it as their lower bound on σ.
+    EXPECT_FLOAT_EQ(s.range_sigma, 0.01f);
   }
   // Odometry starts at the origin and follows the true motion up to the simulated noise.
   EXPECT_NEAR(scans[0].odometry.x, 0.0, 1e-12);

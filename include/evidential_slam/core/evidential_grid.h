@@ -60,7 +60,17 @@ class EvidentialGrid {
   const Cell& cell(const CellIndex& c) const { return cell(c.x, c.y); }
 
   // Write access: grows the grid and clones a shared tile before returning the cell.
-  Cell& mutableCell(int cx, int cy);
+  Cell& mutableCell(int cx, int cy) {
+    const int tx = (cx >> kTileBits) - tile_x0_;
+    const int ty = (cy >> kTileBits) - tile_y0_;
+    if (tx >= 0 && ty >= 0 && tx < tiles_w_ && ty < tiles_h_) {
+      std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(ty) * tiles_w_ + tx];
+      if (slot && slot.use_count() == 1) {  // owned: write in place
+        return slot->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
+      }
+    }
+    return mutableCellSlow(cx, cy);
+  }
 
   // Box of allocated tiles (in cells); empty for a fresh grid.
   CellBox allocatedBox() const;
@@ -74,6 +84,7 @@ class EvidentialGrid {
 
  private:
   void ensureTile(int tx, int ty);
+  Cell& mutableCellSlow(int cx, int cy);
 
   static const Cell kVacuousCell;
   double resolution_;

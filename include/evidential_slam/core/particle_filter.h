@@ -72,8 +72,10 @@ class ParticleFilter {
 
   SlamConfig config_;
   std::vector<Particle> particles_;
-  std::unique_ptr<BeamModel> beam_model_;
-  std::unique_ptr<ScanMatcher> matcher_;
+  // Sensor and matcher models per declared range noise (a log has one or a few lasers).
+  struct ScanModels;
+  const ScanModels& modelsFor(const LaserScan& scan);
+  std::vector<std::pair<float, std::unique_ptr<ScanModels>>> models_;
   std::unique_ptr<WorkerPool> pool_;
   std::vector<std::unique_ptr<Workspace>> workspaces_;  // one per worker thread
   uint64_t resample_counter_ = 0;

@@ -15,25 +15,33 @@
 
 namespace evidential_slam {
 
+// A beam endpoint and a point just in front of it (past the inverse model's Θ gap), robot frame. A match needs
+// an occupied cell at the first and a free cell at the second: that finds the wall's visible face,
+// not the thick band of occupied evidence that accumulates behind it.
+struct MatchPoint {
+  Eigen::Vector2d hit;
+  Eigen::Vector2d free;
+};
+
 class ScanMatcher {
  public:
   ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor, double resolution);
 
   // Beam endpoints in the robot frame used for matching (every beam_stride-th usable hit).
-  std::vector<Eigen::Vector2d> endpoints(const LaserScan& scan) const;
-  // Σ over endpoints of the best m̃(o)·exp(-d²/2σ²) over the 3x3 cells around each endpoint.
+  std::vector<MatchPoint> endpoints(const LaserScan& scan) const;
+  // Σ over endpoints of the best m̃(o)(hit)·m̃(e)(free)·exp(-d²/2σ²) over 3x3 cell offsets.
   double score(const EvidentialGrid& map, const Pose2& robot_pose,
-               const std::vector<Eigen::Vector2d>& endpoints) const;
+               const std::vector<MatchPoint>& endpoints) const;
   // Refined pose, or `initial` when too few endpoints find an occupied cell nearby.
   Pose2 refine(const EvidentialGrid& map, const Pose2& initial,
-               const std::vector<Eigen::Vector2d>& endpoints) const;
+               const std::vector<MatchPoint>& endpoints) const;
 
  private:
   // One ICP iteration; false when too few endpoints matched.
-  bool icpStep(const EvidentialGrid& map, const std::vector<Eigen::Vector2d>& endpoints,
+  bool icpStep(const EvidentialGrid& map, const std::vector<MatchPoint>& endpoints,
                Pose2* pose) const;
   Pose2 hillClimb(const EvidentialGrid& map, const Pose2& start,
-                  const std::vector<Eigen::Vector2d>& endpoints) const;
+                  const std::vector<MatchPoint>& endpoints) const;
 
   ScanMatcherConfig config_;
   SensorModelConfig sensor_;

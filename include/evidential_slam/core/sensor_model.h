@@ -45,23 +45,45 @@ class ScanAccumulator {
  public:
   void reset(const CellIndex& center, int half_size);
   // Dempster-fuses `m` into the scan's mass of cell (x, y); false if outside the window.
-  bool add(int x, int y, const ScanMass& m);
+  bool add(int x, int y, const ScanMass& m) {
+    const int lx = x - origin_x_, ly = y - origin_y_;
+    if (static_cast<unsigned>(lx) >= static_cast<unsigned>(side_) ||
+        static_cast<unsigned>(ly) >= static_cast<unsigned>(side_)) {
+      return false;
+    }
+    Slot& slot = slots_[static_cast<size_t>(ly) * side_ + lx];
+    if (slot.stamp != stamp_) {
+      slot.stamp = stamp_;
+      slot.index = static_cast<uint32_t>(touched_.size());
+      touched_.push_back(Touched{x, y, m});
+    } else {
+      ScanMass& acc = touched_[slot.index].mass;
+      acc = fuseDempster(acc, m);
+    }
+    return true;
+  }
   // Applies every touched cell to `map` with the conjunctive rule; returns the external conflict
   // added (nats, summed over cells).
   double applyTo(EvidentialGrid* map) const;
   size_t touched() const { return touched_.size(); }
 
  private:
-  struct Entry {
-    ScanMass mass;
+  struct Slot {
     uint32_t stamp = 0;
+    uint32_t index = 0;
   };
-  CellIndex center_;
-  int half_ = 0;
+  struct Touched {
+    int x;
+    int y;
+    ScanMass mass;
+  };
+  int origin_x_ = 0;
+  int origin_y_ = 0;
+  int half_ = -1;
   int side_ = 0;
   uint32_t stamp_ = 0;
-  std::vector<Entry> entries_;
-  std::vector<uint32_t> touched_;
+  std::vector<Slot> slots_;
+  std::vector<Touched> touched_;
 };
 
 class BeamModel {
@@ -103,6 +125,7 @@ class BeamModel {
   // g(δ) on [-g_half_, g_half_] with step table_step_.
   double g_half_;
   double table_step_;
+  double inv_table_step_;
   std::vector<float> g_table_;
   // inverse masses for s in [s_min_, s_max_]; in front of s_min_: clearMass(), beyond s_max_: vacuous.
   double s_min_, s_max_;
