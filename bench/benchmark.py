@@ -246,7 +246,12 @@ def run_mrpt(name, template, rawlog, gt, run_dir, seed, overrides, rbpf, path_ki
     return r
 
 
-def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads):
+def ours_name(resolution):
+    """Method label of our runner: 'ours' at its default resolution, 'ours-<res>m' otherwise."""
+    return "ours" if resolution is None else "ours-%gm" % resolution
+
+
+def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, resolution=None):
     if os.path.isdir(run_dir):
         shutil.rmtree(run_dir)
     out_dir = os.path.join(run_dir, "out")
@@ -256,8 +261,10 @@ def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads):
         cmd += ["--ground-truth", gt_path]
     if threads is not None:
         cmd += ["--threads", str(threads)]
+    if resolution is not None:
+        cmd += ["--resolution", str(resolution)]
     r = measured_run(cmd, run_dir)
-    r.update(method="ours", seed=seed)
+    r.update(method=ours_name(resolution), seed=seed)
     if r["rc"] != 0:
         r["error"] = "evidential_slam_offline exited with %s: %s" % (
             r["rc"], tail(os.path.join(run_dir, "stderr.txt")))
@@ -342,19 +349,21 @@ def markdown(rows, runs, mrpt_path):
     by = {(r["log"], r["method"]): r for r in rows}
     logs = list(dict.fromkeys(r["log"] for r in rows))
     ratio_lines = []
+    ours_methods = list(dict.fromkeys(r["method"] for r in rows if r["method"].startswith("ours")))
     for log in logs:
-        ours = by.get((log, "ours"))
-        if not ours:
-            continue
-        for ref in ("mrpt-standard", "mrpt-optimal"):
-            m = by.get((log, ref))
-            if not m:
+        for name in ours_methods:
+            ours = by.get((log, name))
+            if not ours:
                 continue
-            ratio_lines.append("| %s | ours / %s | %s | %s | %s |" % (
-                log, ref,
-                fmt(ratio(ours["wall_time_s"], m["wall_time_s"]), 2),
-                fmt(ratio(ours["peak_rss_mb"], m["peak_rss_mb"]), 2),
-                fmt(ratio(ours["ate_m"], m["ate_m"]), 2)))
+            for ref in ("mrpt-standard", "mrpt-optimal"):
+                m = by.get((log, ref))
+                if not m:
+                    continue
+                ratio_lines.append("| %s | %s / %s | %s | %s | %s |" % (
+                    log, name, ref,
+                    fmt(ratio(ours["wall_time_s"], m["wall_time_s"]), 2),
+                    fmt(ratio(ours["peak_rss_mb"], m["peak_rss_mb"]), 2),
+                    fmt(ratio(ours["ate_m"], m["ate_m"]), 2)))
     if ratio_lines:
         out.append("")
         out.append("| log | ratio | wall time | peak RSS | ATE |")
@@ -397,6 +406,9 @@ def parse_args(argv):
                    help="output directory: results.json, results.md, runs/ "
                         "(default %(default)s)")
     p.add_argument("--particles", type=int, default=100, help="our particle count (default 100)")
+    p.add_argument("--resolutions", dest="resolutions_text", default="", metavar="LIST",
+                   help="comma-separated grid resolutions (m) to run ours at, each its own row, "
+                        "e.g. 'default,0.1' (default: the runner's default only)")
     p.add_argument("--threads", type=int, default=None,
                    help="our --threads (default: the runner's default, all cores)")
     p.add_argument("--offline", default=DEFAULT_OFFLINE,
@@ -422,6 +434,16 @@ def parse_args(argv):
             p.error("--mrpt-set wants KEY=VALUE, got %r" % kv)
         k, v = kv.split("=", 1)
         a.overrides.append((k.strip(), v.strip()))
+    a.resolutions = []
+    for item in (a.resolutions_text or "default").split(","):
+        item = item.strip()
+        if item in ("", "default"):
+            a.resolutions.append(None)
+            continue
+        try:
+            a.resolutions.append(float(item))
+        except ValueError:
+            p.error("--resolutions wants numbers or 'default', got %r" % item)
     return a
 
 
@@ -457,7 +479,8 @@ def main(argv):
     os.makedirs(out, exist_ok=True)
     methods = []
     if run_ours_:
-        methods.append(("ours", a.particles, None))
+        for res in a.resolutions:
+            methods.append((ours_name(res), a.particles, res))
     if run_mrpt_:
         methods.extend(MRPT_METHODS)
 
@@ -471,8 +494,8 @@ def main(argv):
                 run_dir = os.path.join(out, "runs", label, method, "run%d" % run)
                 print("[benchmark] run %d/%d  %-22s %-14s K=%-3d ..." % (
                     run, a.runs, label, method, k), end="", flush=True)
-                if method == "ours":
-                    r = run_ours(a.offline, rawlog, gt_path, gt, run_dir, run, k, a.threads)
+                if method.startswith("ours"):
+                    r = run_ours(a.offline, rawlog, gt_path, gt, run_dir, run, k, a.threads, ini)
                 else:
                     r = run_mrpt(method, ini, rawlog, gt, run_dir, run, a.overrides, a.rbpf_slam,
                                  a.mrpt_path)
