@@ -48,8 +48,8 @@ SensorModelConfig SensorModelConfig::forSensorNoise(double range_sigma, double r
   SensorModelConfig c = *this;
   if (!(range_sigma > 0.0) || !std::isfinite(range_sigma)) return c;
   c.hit_sigma = std::max(hit_sigma, range_sigma);
-  c.forward_sigma =
-      std::max(forward_sigma, std::sqrt(range_sigma * range_sigma + resolution * resolution / 12.0));
+  c.forward_sigma = std::max(forward_sigma,
+                             std::sqrt(range_sigma * range_sigma + resolution * resolution / 12.0));
   return c;
 }
 
@@ -70,7 +70,8 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
                "matcher search_radius must be in (0, 5] m")
       .require(occupied_threshold > 0.0 && occupied_threshold < 1.0,
                "matcher occupied_threshold must be in (0, 1)")
-      .require(icp_iterations >= 0 && icp_iterations <= 100, "matcher icp_iterations must be in [0, 100]")
+      .require(icp_iterations >= 0 && icp_iterations <= 100,
+               "matcher icp_iterations must be in [0, 100]")
       .require(positiveFinite(linear_step), "matcher linear_step must be > 0")
       .require(positiveFinite(angular_step), "matcher angular_step must be > 0")
       .require(refinements >= 0 && refinements <= 12, "matcher refinements must be in [0, 12]")
@@ -82,8 +83,12 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
       .ok();
 }
 
-ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma) const {
+ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma,
+                                                    double hit_occupied_mass) const {
   ScanMatcherConfig c = *this;
+  if (hit_occupied_mass > 0.0 && hit_occupied_mass < occupied_threshold) {
+    c.occupied_threshold = hit_occupied_mass;
+  }
   if (!(range_sigma > 0.0) || !std::isfinite(range_sigma)) return c;
   c.score_sigma = std::max(score_sigma, range_sigma);
   c.search_radius = std::max(search_radius, 1.5 * range_sigma);

@@ -22,7 +22,8 @@ void CellBox::extend(const CellBox& other) {
 EvidentialGrid::EvidentialGrid(double resolution) : resolution_(resolution) {}
 
 CellIndex EvidentialGrid::worldToCell(double x, double y) const {
-  return {static_cast<int>(std::floor(x / resolution_)), static_cast<int>(std::floor(y / resolution_))};
+  return {static_cast<int>(std::floor(x / resolution_)),
+          static_cast<int>(std::floor(y / resolution_))};
 }
 
 Eigen::Vector2d EvidentialGrid::cellCenter(const CellIndex& c) const {
@@ -66,7 +67,8 @@ void EvidentialGrid::ensureTile(int tx, int ty) {
 Cell& EvidentialGrid::mutableCellSlow(int cx, int cy) {
   const int tx = cx >> kTileBits, ty = cy >> kTileBits;
   ensureTile(tx, ty);
-  std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];
+  std::shared_ptr<Tile>& slot =
+      tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];
   if (!slot) {
     slot = std::make_shared<Tile>();
   } else if (slot.use_count() > 1) {
@@ -107,8 +109,8 @@ CellBox EvidentialGrid::observedBox() const {
 }
 
 size_t EvidentialGrid::allocatedTiles() const {
-  return static_cast<size_t>(std::count_if(tiles_.begin(), tiles_.end(),
-                                           [](const std::shared_ptr<Tile>& t) { return t != nullptr; }));
+  return static_cast<size_t>(std::count_if(
+      tiles_.begin(), tiles_.end(), [](const std::shared_ptr<Tile>& t) { return t != nullptr; }));
 }
 
 size_t EvidentialGrid::accumulateUniqueTileBytes(std::unordered_set<const Tile*>* seen) const {

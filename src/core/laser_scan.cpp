@@ -8,8 +8,10 @@ bool LaserScan::isConsistent(std::string* why) const {
     return false;
   };
   if (ranges.empty()) return fail("scan has no rays");
-  if (bearings.size() != ranges.size()) return fail("scan has a different number of bearings and ranges");
-  if (!valid.empty() && valid.size() != ranges.size()) return fail("scan validity flags do not match its ranges");
+  if (bearings.size() != ranges.size())
+    return fail("scan has a different number of bearings and ranges");
+  if (!valid.empty() && valid.size() != ranges.size())
+    return fail("scan validity flags do not match its ranges");
   return true;
 }
 

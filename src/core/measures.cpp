@@ -32,9 +32,9 @@ double externalConflict(const Cell& c) { return c.lambda / kLn2; }
 
 const std::array<std::string, kLayerCount>& layerNames() {
   static const std::array<std::string, kLayerCount> names = {
-      "occupied",       "free",      "unknown",
-      "conflict",       "pignistic", "nonspecificity",
-      "internal_conflict", "external_conflict", "entropy"};
+      "occupied",  "free",           "unknown",           "conflict",
+      "pignistic", "nonspecificity", "internal_conflict", "external_conflict",
+      "entropy"};
   return names;
 }
 
@@ -42,15 +42,24 @@ const std::string& layerName(Layer layer) { return layerNames()[static_cast<int>
 
 double layerValue(const Cell& c, Layer layer) {
   switch (layer) {
-    case Layer::kOccupied: return c.toMass().occupied;
-    case Layer::kFree: return c.toMass().free;
-    case Layer::kUnknown: return c.toMass().unknown;
-    case Layer::kConflict: return c.toMass().conflict;
-    case Layer::kPignistic: return pignistic(c);
-    case Layer::kNonspecificity: return nonSpecificity(c);
-    case Layer::kInternalConflict: return internalConflict(c);
-    case Layer::kExternalConflict: return externalConflict(c);
-    case Layer::kEntropy: return entropyBits(c);
+    case Layer::kOccupied:
+      return c.toMass().occupied;
+    case Layer::kFree:
+      return c.toMass().free;
+    case Layer::kUnknown:
+      return c.toMass().unknown;
+    case Layer::kConflict:
+      return c.toMass().conflict;
+    case Layer::kPignistic:
+      return pignistic(c);
+    case Layer::kNonspecificity:
+      return nonSpecificity(c);
+    case Layer::kInternalConflict:
+      return internalConflict(c);
+    case Layer::kExternalConflict:
+      return externalConflict(c);
+    case Layer::kEntropy:
+      return entropyBits(c);
   }
   return 0.0;
 }

@@ -13,7 +13,8 @@
 namespace evidential_slam {
 
 PathNode::~PathNode() {
-  // Unlink the chain iteratively: a recursive release of thousands of nodes could overflow the stack.
+  // Unlink the chain iteratively: a recursive release of thousands of nodes could overflow the
+  // stack.
   std::shared_ptr<const PathNode> next = std::move(parent);
   while (next && next.use_count() == 1) {
     std::shared_ptr<const PathNode> after = std::move(const_cast<PathNode&>(*next).parent);
@@ -24,14 +25,15 @@ PathNode::~PathNode() {
 struct ParticleFilter::ScanModels {
   ScanModels(const SlamConfig& config, float range_sigma)
       : beam(config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
-        matcher(config.matcher.forSensorNoise(range_sigma),
+        matcher(config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied),
                 config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution) {}
   BeamModel beam;
   ScanMatcher matcher;
 };
 
 const ParticleFilter::ScanModels& ParticleFilter::modelsFor(const LaserScan& scan) {
-  const float sigma = std::isfinite(scan.range_sigma) && scan.range_sigma > 0.0f ? scan.range_sigma : 0.0f;
+  const float sigma =
+      std::isfinite(scan.range_sigma) && scan.range_sigma > 0.0f ? scan.range_sigma : 0.0f;
   for (const auto& m : models_) {
     if (m.first == sigma) return *m.second;
   }
@@ -45,8 +47,7 @@ struct ParticleFilter::Workspace {
 };
 
 ParticleFilter::ParticleFilter(const SlamConfig& config)
-    : config_(config),
-      pool_(std::make_unique<WorkerPool>(config.threads)) {
+    : config_(config), pool_(std::make_unique<WorkerPool>(config.threads)) {
   for (int i = 0; i < pool_->size(); ++i) workspaces_.push_back(std::make_unique<Workspace>());
 }
 
@@ -67,7 +68,8 @@ size_t ParticleFilter::mapMemoryBytes() const {
   return bytes;
 }
 
-std::vector<size_t> ParticleFilter::systematicResample(const std::vector<double>& weights, double u0) {
+std::vector<size_t> ParticleFilter::systematicResample(const std::vector<double>& weights,
+                                                       double u0) {
   const size_t n = weights.size();
   std::vector<size_t> parents(n);
   double total = 0.0;
@@ -143,7 +145,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       const size_t l = leaders[i];
       if (particles_[l].map_id != particles_[k].map_id) continue;
       const Pose2 d = proposed[l].between(proposed[k]);
-      if (std::hypot(d.x, d.y) <= config_.merge_distance && std::abs(d.theta) <= config_.merge_angle) {
+      if (std::hypot(d.x, d.y) <= config_.merge_distance &&
+          std::abs(d.theta) <= config_.merge_angle) {
         g = i;
         break;
       }
@@ -160,7 +163,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     Particle& p = particles_[leaders[g]];
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
     beam_model->traceScan(proposed[leaders[g]].compose(scan.sensor_pose), scan, &ws.traced);
-    log_pl[g] = beam_model->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
+    log_pl[g] =
+        beam_model->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
     conflict_added[g] = beam_model->integrateScan(ws.traced, &p.map, &ws.accumulator);
     bad[g] = ws.traced.rays_bad;
     no_return[g] = ws.traced.rays_no_return;
@@ -212,7 +216,8 @@ void ParticleFilter::resampleIfNeeded(FilterStepInfo* info) {
     sum_sq += x * x;
   }
   info->effective_sample_size = 1.0 / sum_sq;
-  if (info->effective_sample_size >= config_.resample_threshold * static_cast<double>(particles_.size())) {
+  if (info->effective_sample_size >=
+      config_.resample_threshold * static_cast<double>(particles_.size())) {
     return;
   }
   Rng rng = Rng::forStream(config_.seed, 0xA5A5A5A5ull, resample_counter_++);

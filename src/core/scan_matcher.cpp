@@ -35,8 +35,8 @@ ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfi
 
 std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan) const {
   std::vector<MatchPoint> pts;
-  const double limit = std::min<double>(sensor_.usable_range,
-                                        scan.max_range > 0.0f ? scan.max_range : sensor_.usable_range);
+  const double limit = std::min<double>(
+      sensor_.usable_range, scan.max_range > 0.0f ? scan.max_range : sensor_.usable_range);
   int k = 0;
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     const float z = scan.ranges[i];
@@ -44,7 +44,8 @@ std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan) const {
     if (!std::isfinite(z) || z < sensor_.min_range || z >= limit) continue;
     if (k++ % config_.beam_stride != 0) continue;
     const Eigen::Vector2d dir(std::cos(scan.bearings[i]), std::sin(scan.bearings[i]));
-    // Probe in front of the inverse model's Θ gap (k_i·σ + Δ/2), where repeated passes make cells free.
+    // Probe in front of the inverse model's Θ gap (k_i·σ + Δ/2), where repeated passes make cells
+    // free.
     const double back = std::min(sensor_.free_gap * sensor_.hit_sigma + 1.5 * resolution_, 0.5 * z);
     pts.push_back(MatchPoint{scan.sensor_pose.transformPoint(z * dir),
                              scan.sensor_pose.transformPoint((z - back) * dir)});
@@ -61,8 +62,10 @@ double ScanMatcher::score(const EvidentialGrid& map, const Pose2& pose,
     const double fx = (pose.x + c * p.hit.x() - s * p.hit.y()) * inv_res;
     const double fy = (pose.y + s * p.hit.x() + c * p.hit.y()) * inv_res;
     const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
-    const int jx = static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) * inv_res));
-    const int jy = static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) * inv_res));
+    const int jx =
+        static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) * inv_res));
+    const int jy =
+        static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) * inv_res));
     float best = 0.0f;
     for (int dy = -1; dy <= 1; ++dy) {
       const double ddy = iy + dy + 0.5 - fy;
@@ -113,7 +116,8 @@ bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<MatchPoin
       break;
     }
   }
-  if (pairs.size() < std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
+  if (pairs.size() <
+      std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
     return false;
   }
   const double mqx = sqx / sw, mqy = sqy / sw, myx = syx / sw, myy = syy / sw;
@@ -140,12 +144,10 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGrid& map, const Pose2& start,
   double lin = config_.linear_step, ang = config_.angular_step;
   for (int level = 0; level <= config_.refinements; ++level) {
     for (int it = 0; it < config_.max_iterations; ++it) {
-      const Pose2 moves[6] = {{current.x + lin, current.y, current.theta},
-                              {current.x - lin, current.y, current.theta},
-                              {current.x, current.y + lin, current.theta},
-                              {current.x, current.y - lin, current.theta},
-                              {current.x, current.y, current.theta + ang},
-                              {current.x, current.y, current.theta - ang}};
+      const Pose2 moves[6] = {
+          {current.x + lin, current.y, current.theta}, {current.x - lin, current.y, current.theta},
+          {current.x, current.y + lin, current.theta}, {current.x, current.y - lin, current.theta},
+          {current.x, current.y, current.theta + ang}, {current.x, current.y, current.theta - ang}};
       Pose2 best = current;
       double best_score = current_score;
       for (const Pose2& candidate : moves) {

@@ -173,7 +173,8 @@ void BeamModel::traceRay(const Eigen::Vector2d& origin, double angle, double len
   }
 }
 
-void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const {
+void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
+                          TracedScan* out) const {
   out->clear();
   const Eigen::Vector2d origin = sensor_in_map.translation();
   const double usable = config_.usable_range;
@@ -216,7 +217,8 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGrid* map,
   if (traced.cells.empty()) return 0.0;
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
   const RayCell& first = traced.cells.front();
-  const int half = static_cast<int>(std::ceil((config_.usable_range + beyond_hit_) / resolution_)) + 2;
+  const int half =
+      static_cast<int>(std::ceil((config_.usable_range + beyond_hit_) / resolution_)) + 2;
   scratch->reset(CellIndex{first.x, first.y}, half);
   const ScanMass clear = clearMass();
   for (const TracedBeam& b : traced.beams) {

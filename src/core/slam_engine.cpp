@@ -104,7 +104,8 @@ std::vector<StampedPose> SlamEngine::bestTrajectory() const {
   }
   for (const ScanRecord& r : scan_records_) {
     if (r.step >= 0 && step_odometry_[r.step].x == r.odometry.x &&
-        step_odometry_[r.step].y == r.odometry.y && step_odometry_[r.step].theta == r.odometry.theta) {
+        step_odometry_[r.step].y == r.odometry.y &&
+        step_odometry_[r.step].theta == r.odometry.theta) {
       step_stamp[r.step] = r.stamp;
     }
   }
@@ -119,9 +120,11 @@ std::vector<StampedPose> SlamEngine::bestTrajectory() const {
     if (s + 1 < steps && step_stamp[s + 1] > step_stamp[s]) {
       // ...with the odometry's drift up to the next processed scan spread over the segment in
       // proportion to time (the path is written after the fact, so both ends are known).
-      const Pose2 predicted_next = step_pose[s].compose(step_odometry_[s].between(step_odometry_[s + 1]));
+      const Pose2 predicted_next =
+          step_pose[s].compose(step_odometry_[s].between(step_odometry_[s + 1]));
       const Pose2 drift = predicted_next.between(step_pose[s + 1]);
-      const double alpha = std::clamp((r.stamp - step_stamp[s]) / (step_stamp[s + 1] - step_stamp[s]), 0.0, 1.0);
+      const double alpha =
+          std::clamp((r.stamp - step_stamp[s]) / (step_stamp[s + 1] - step_stamp[s]), 0.0, 1.0);
       pose = pose.compose(Pose2(alpha * drift.x, alpha * drift.y, alpha * drift.theta));
     }
     out.push_back(StampedPose{r.stamp, pose});

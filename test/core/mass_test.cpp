@@ -175,10 +175,10 @@ TEST(CellTest, FromMassStoresNormalisedPairAndLambda) {
 
 // fromMass followed by toMass returns the original masses (to float precision).
 TEST(CellTest, FromMassToMassRoundTrip) {
-  const std::vector<Mass> masses = {
-      Mass::make(0.0, 0.0, 0.0),   Mass::make(0.0, 0.6, 0.1), Mass::make(0.32, 0.36, 0.23),
-      Mass::make(0.5, 0.25, 0.25), Mass::make(0.0, 1.0, 0.0), Mass::make(0.9, 0.01, 0.02),
-      Mass::make(0.2, 0.0, 0.8)};
+  const std::vector<Mass> masses = {Mass::make(0.0, 0.0, 0.0),    Mass::make(0.0, 0.6, 0.1),
+                                    Mass::make(0.32, 0.36, 0.23), Mass::make(0.5, 0.25, 0.25),
+                                    Mass::make(0.0, 1.0, 0.0),    Mass::make(0.9, 0.01, 0.02),
+                                    Mass::make(0.2, 0.0, 0.8)};
   for (const Mass& m : masses) {
     const Mass r = Cell::fromMass(m).toMass();
     expectMass(r, m.conflict, m.occupied, m.free, m.unknown, kFloat);

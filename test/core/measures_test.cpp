@@ -197,8 +197,8 @@ TEST(LayerValueTest, EveryLayerOfAVacuousCell) {
 // layerValue on a conflict-free cell (∅0, o0.6, e0.1, Θ0.3), values from AsymmetricMass.
 TEST(LayerValueTest, EveryLayerOfAConflictFreeCell) {
   const Cell c = makeCell(0.6, 0.1, 0.0);
-  const double expected[kLayerCount] = {0.6,  0.1, 0.3, 0.0, 0.75, 0.3, 0.22339466555577,
-                                        0.0, 0.81127812445913};
+  const double expected[kLayerCount] = {
+      0.6, 0.1, 0.3, 0.0, 0.75, 0.3, 0.22339466555577, 0.0, 0.81127812445913};
   for (int i = 0; i < kLayerCount; ++i) {
     EXPECT_NEAR(layerValue(c, static_cast<Layer>(i)), expected[i], kTol) << layerNames()[i];
   }

@@ -259,17 +259,24 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
   const SensorModelConfig base;  // σ_i = σ_f = 0.025
   const SensorModelConfig noisy = base.forSensorNoise(0.3, 0.05);
   EXPECT_DOUBLE_EQ(noisy.hit_sigma, 0.3);
-  EXPECT_NEAR(noisy.forward_sigma, 0.3003470, 1e-6);  // √(0.09 + 0.0025/12)
+  EXPECT_NEAR(noisy.forward_sigma, 0.3003470, 1e-6);                  // √(0.09 + 0.0025/12)
   const SensorModelConfig precise = base.forSensorNoise(0.01, 0.05);  // √(1e-4 + 2.08e-4) = 0.0176
   EXPECT_DOUBLE_EQ(precise.hit_sigma, 0.025);
   EXPECT_DOUBLE_EQ(precise.forward_sigma, 0.025);
   EXPECT_DOUBLE_EQ(base.forSensorNoise(0.0, 0.05).hit_sigma, 0.025);
   EXPECT_DOUBLE_EQ(base.forSensorNoise(std::nan(""), 0.05).forward_sigma, 0.025);
 
+  // Matcher: kernel σ = max(0.05, σ_range), radius = max(0.4, 1.5·σ_range); the target threshold
+  // drops to one hit's occupied mass when that is below 0.25 (0.0845 for σ = 0.3 at Δ = 0.05,
+  // see DeclaredRangeNoiseWidensTheModel; the default model's 0.6255 leaves 0.25).
   const ScanMatcherConfig matcher;
-  EXPECT_DOUBLE_EQ(matcher.forSensorNoise(0.3).score_sigma, 0.3);
-  EXPECT_DOUBLE_EQ(matcher.forSensorNoise(0.3).search_radius, 0.45);
-  EXPECT_DOUBLE_EQ(matcher.forSensorNoise(0.01).score_sigma, matcher.score_sigma);
+  const ScanMatcherConfig noisy_matcher = matcher.forSensorNoise(0.3, 0.0845);
+  EXPECT_DOUBLE_EQ(noisy_matcher.score_sigma, 0.3);
+  EXPECT_DOUBLE_EQ(noisy_matcher.search_radius, 0.45);
+  EXPECT_DOUBLE_EQ(noisy_matcher.occupied_threshold, 0.0845);
+  const ScanMatcherConfig precise_matcher = matcher.forSensorNoise(0.01, 0.6255);
+  EXPECT_DOUBLE_EQ(precise_matcher.score_sigma, matcher.score_sigma);
+  EXPECT_DOUBLE_EQ(precise_matcher.occupied_threshold, 0.25);
 }
 
 }  // namespace

@@ -350,7 +350,7 @@ TEST(IntegrateScanTest, DempsterWithinScanConjunctiveBetweenScans) {
   EXPECT_NEAR(map.cell(20, 0).free, 0.59965537, kTable);
   EXPECT_EQ(map.cell(20, 0).lambda, 0.0f);
   EXPECT_NEAR(map.cell(40, 0).occupied, 0.62554889, 1e-3);  // second beam's hit
-  EXPECT_NEAR(map.cell(10, 0).free, 0.96, 1e-6);  // two clear masses: 0.8 + 0.2 * 0.8
+  EXPECT_NEAR(map.cell(10, 0).free, 0.96, 1e-6);            // two clear masses: 0.8 + 0.2 * 0.8
 
   const double added_bits = model.integrateScan(traced, &map, &scratch);
   EXPECT_NEAR(map.cell(20, 0).lambda, 0.35718190, 5e-3);

@@ -9,16 +9,16 @@ namespace evidential_slam {
 
 // Forward (plausibility) and inverse (GBT) laser models, algorithm.md §3-§4.
 struct SensorModelConfig {
-  double hit_sigma = 0.025;        // σ of a hit's position along the beam (m), inverse model
-  double forward_sigma = 0.025;    // σ_f of the forward model (m)
-  double forward_window = 3.0;     // k_f: half-width of the forward hit window in σ_f
-  double free_gap = 3.0;           // k_i: Θ gap left in front of a hit, in σ
-  double random_weight = 0.2;      // r: random-measurement discount / plausibility floor
-  double prior_occupied = 0.4;     // p_o: simple-support occupancy prior of the inverse model
-  double usable_range = 20.0;      // m; longer rays only clear space up to here
-  double min_range = 0.05;         // m; shorter rays are ignored (robot body, dust)
-  bool clear_no_return = true;     // no-return rays clear space up to usable_range
-  int weight_beam_stride = 1;      // use every n-th beam for particle weights
+  double hit_sigma = 0.025;      // σ of a hit's position along the beam (m), inverse model
+  double forward_sigma = 0.025;  // σ_f of the forward model (m)
+  double forward_window = 3.0;   // k_f: half-width of the forward hit window in σ_f
+  double free_gap = 3.0;         // k_i: Θ gap left in front of a hit, in σ
+  double random_weight = 0.2;    // r: random-measurement discount / plausibility floor
+  double prior_occupied = 0.4;   // p_o: simple-support occupancy prior of the inverse model
+  double usable_range = 20.0;    // m; longer rays only clear space up to here
+  double min_range = 0.05;       // m; shorter rays are ignored (robot body, dust)
+  bool clear_no_return = true;   // no-return rays clear space up to usable_range
+  int weight_beam_stride = 1;    // use every n-th beam for particle weights
 
   bool isValid(std::string* why) const;
   // The model for a sensor that declares `range_sigma` of range noise: the σ's are never below
@@ -31,10 +31,10 @@ struct SensorModelConfig {
 struct MotionModelConfig {
   // Defaults sized on simul.rawlog's odometry (per 0.6 m step: σ 8.5 cm along, 3 cm across,
   // 0.74°); wider rotation noise throws samples beyond what the matcher recovers.
-  double alpha_rot_rot = 0.02;       // rotation noise from rotation (rad²/rad²)
-  double alpha_rot_trans = 0.0005;   // rotation noise from translation (rad²/m²)
-  double alpha_trans_trans = 0.03;   // translation noise from translation (m²/m²)
-  double alpha_trans_rot = 0.01;     // translation noise from rotation (m²/rad²)
+  double alpha_rot_rot = 0.02;      // rotation noise from rotation (rad²/rad²)
+  double alpha_rot_trans = 0.0005;  // rotation noise from translation (rad²/m²)
+  double alpha_trans_trans = 0.03;  // translation noise from translation (m²/m²)
+  double alpha_trans_rot = 0.01;    // translation noise from rotation (m²/rad²)
   double min_sigma_xy = 0.005;      // m, floor so particles always spread a little
   double min_sigma_theta = 0.002;   // rad
 
@@ -45,37 +45,42 @@ struct MotionModelConfig {
 // (wide capture), then a short hill climb on a smooth endpoint score (sub-cell precision).
 struct ScanMatcherConfig {
   bool enabled = true;
-  double search_radius = 0.4;       // m around each endpoint searched for an occupied cell
-  double occupied_threshold = 0.5;  // m̃(o) that makes a cell a match target
-  int icp_iterations = 12;          // at most
-  double linear_step = 0.02;        // m, first hill-climb step, halved at every refinement
-  double angular_step = 0.01;       // rad
-  int refinements = 3;              // number of step halvings
-  int max_iterations = 20;          // hill-climb moves per refinement level, at most
-  double score_sigma = 0.05;        // m, spread of the endpoint score kernel
-  int beam_stride = 2;              // every n-th usable beam is matched
-  double min_match_fraction = 0.2;  // below this fraction of endpoints matched, keep the sampled pose
+  double search_radius = 0.4;        // m around each endpoint searched for an occupied cell
+  double occupied_threshold = 0.25;  // m̃(o) that makes a cell a match target (at most one hit's)
+  int icp_iterations = 12;           // at most
+  double linear_step = 0.02;         // m, first hill-climb step, halved at every refinement
+  double angular_step = 0.01;        // rad
+  int refinements = 3;               // number of step halvings
+  int max_iterations = 20;           // hill-climb moves per refinement level, at most
+  double score_sigma = 0.05;         // m, spread of the endpoint score kernel
+  int beam_stride = 2;               // every n-th usable beam is matched
+  double min_match_fraction =
+      0.2;  // below this fraction of endpoints matched, keep the sampled pose
   bool isValid(std::string* why) const;
-  // Matching kernel and search radius widened for a sensor with `range_sigma` of range noise.
-  ScanMatcherConfig forSensorNoise(double range_sigma) const;
+  // Matching for a sensor with `range_sigma` of range noise: kernel and search radius widened,
+  // and a cell is a match target once it holds one hit's worth of occupied mass
+  // (`hit_occupied_mass`, the inverse model's m(o) at the hit) if that is below the threshold:
+  // a 0.3 m-noise laser puts only 0.085 on a hit cell, so 0.25 would leave ICP without targets.
+  ScanMatcherConfig forSensorNoise(double range_sigma, double hit_occupied_mass) const;
 };
 
 struct SlamConfig {
-  int particles = 100;              // K (paper: 100)
-  double resolution = 0.05;         // m per cell
-  uint64_t seed = 1;                // RNG seed; runs are deterministic for a seed and thread count
-  int threads = 0;                  // worker threads; 0 = all cores
-  double update_min_distance = 0.5; // m the robot must travel before a scan is processed
+  int particles = 100;               // K (paper: 100)
+  double resolution = 0.05;          // m per cell
+  uint64_t seed = 1;                 // RNG seed; runs are deterministic for a seed and thread count
+  int threads = 0;                   // worker threads; 0 = all cores
+  double update_min_distance = 0.5;  // m the robot must travel before a scan is processed
   double update_min_angle = 0.17453292519943295;  // rad (10°) it must turn, alternatively
   // The scan's log plausibility enters the weights divided by this (beams are not independent).
   // algorithm.md's 1/(γK) with γ = 3 flattens the weights as K grows; at K = 100 that left the
-  // filter almost unable to select (simul.rawlog, K = 100: ATE 0.89 m; 0.25 m with T = 30, 0.16 m with T = 20).
+  // filter almost unable to select (simul.rawlog, K = 100: ATE 0.89 m; 0.25 m with T = 30, 0.16 m
+  // with T = 20).
   double likelihood_temperature = 20.0;
   double resample_threshold = 0.5;  // resample when N_eff < threshold * K
   // Particles that share a map and whose refined poses differ by less than this are one hypothesis:
   // they take the same pose and the scan is integrated once for all of them (0 disables).
-  double merge_distance = 0.005;    // m
-  double merge_angle = 0.0025;      // rad
+  double merge_distance = 0.005;  // m
+  double merge_angle = 0.0025;    // rad
   SensorModelConfig sensor;
   MotionModelConfig motion;
   ScanMatcherConfig matcher;

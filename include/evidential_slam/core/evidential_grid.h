@@ -16,7 +16,8 @@
 
 namespace evidential_slam {
 
-// Integer cell coordinates; cell (i, j) covers [i*res, (i+1)*res) x [j*res, (j+1)*res) in the map frame.
+// Integer cell coordinates; cell (i, j) covers [i*res, (i+1)*res) x [j*res, (j+1)*res) in the map
+// frame.
 struct CellIndex {
   int x = 0;
   int y = 0;

@@ -15,9 +15,9 @@
 
 namespace evidential_slam {
 
-// A beam endpoint and a point just in front of it (past the inverse model's Θ gap), robot frame. A match needs
-// an occupied cell at the first and a free cell at the second: that finds the wall's visible face,
-// not the thick band of occupied evidence that accumulates behind it.
+// A beam endpoint and a point just in front of it (past the inverse model's Θ gap), robot frame. A
+// match needs an occupied cell at the first and a free cell at the second: that finds the wall's
+// visible face, not the thick band of occupied evidence that accumulates behind it.
 struct MatchPoint {
   Eigen::Vector2d hit;
   Eigen::Vector2d free;

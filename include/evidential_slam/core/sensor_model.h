@@ -110,7 +110,8 @@ class BeamModel {
   void traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const;
   // Inverse model of a traced scan, fused within the scan by Dempster's rule, into `map` by the
   // conjunctive rule, each touched cell once. Returns the external conflict added (bits).
-  double integrateScan(const TracedScan& traced, EvidentialGrid* map, ScanAccumulator* scratch) const;
+  double integrateScan(const TracedScan& traced, EvidentialGrid* map,
+                       ScanAccumulator* scratch) const;
 
   // Distance past the hit that a hit beam is traced (and its cells updated).
   double traceBeyondHit() const { return beyond_hit_; }
@@ -127,7 +128,8 @@ class BeamModel {
   double table_step_;
   double inv_table_step_;
   std::vector<float> g_table_;
-  // inverse masses for s in [s_min_, s_max_]; in front of s_min_: clearMass(), beyond s_max_: vacuous.
+  // inverse masses for s in [s_min_, s_max_]; in front of s_min_: clearMass(), beyond s_max_:
+  // vacuous.
   double s_min_, s_max_;
   std::vector<ScanMass> inverse_table_;
 };

@@ -7,22 +7,22 @@
 #include <string>
 #include <vector>
 
+#include "evidential_slam/core/config.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/metrics.h"
-#include "evidential_slam/core/config.h"
 #include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
 
 struct SlamStats {
-  uint64_t scans_received = 0;     // scans given to processScan
-  uint64_t scans_processed = 0;    // scans that passed the motion gate and were integrated
-  uint64_t scans_rejected = 0;     // scans refused (inconsistent sizes, no usable ray)
-  uint64_t rays_total = 0;         // rays of processed scans
-  uint64_t rays_bad = 0;           // NaN / inf / negative ranges, skipped
-  uint64_t rays_no_return = 0;     // rays flagged as no return
+  uint64_t scans_received = 0;   // scans given to processScan
+  uint64_t scans_processed = 0;  // scans that passed the motion gate and were integrated
+  uint64_t scans_rejected = 0;   // scans refused (inconsistent sizes, no usable ray)
+  uint64_t rays_total = 0;       // rays of processed scans
+  uint64_t rays_bad = 0;         // NaN / inf / negative ranges, skipped
+  uint64_t rays_no_return = 0;   // rays flagged as no return
   uint64_t resamplings = 0;
 };
 
@@ -31,7 +31,7 @@ struct ScanUpdate {
   bool processed = false;  // passed the motion gate and updated the particles
   bool rejected = false;   // the scan was unusable; `why` says why
   std::string why;
-  Pose2 best_pose;         // best particle's pose at this scan (map frame)
+  Pose2 best_pose;                       // best particle's pose at this scan (map frame)
   double external_conflict_added = 0.0;  // sum of EC (bits) this scan added to the best map
 };
 
