@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "evidential_slam/core/particle_filter.h"
+#include "room_scan.h"
 
 namespace evidential_slam {
 namespace {
@@ -119,27 +120,7 @@ TEST(SystematicResampleTest, DegenerateWeights) {
 namespace evidential_slam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// 360 beams over a full turn in a 4 m x 4 m room (walls x, y = ±2) seen from `pose`.
-LaserScan roomScanForFilter(const Pose2& pose) {
-  LaserScan scan;
-  scan.max_range = 30.0f;
-  for (int i = 0; i < 360; ++i) {
-    const double bearing = -kPi + i * (2 * kPi / 360);
-    const double a = pose.theta + bearing;
-    const double c = std::cos(a), s = std::sin(a);
-    double t = 1e9;
-    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
-    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
-    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
-    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
-    scan.ranges.push_back(static_cast<float>(t));
-    scan.bearings.push_back(static_cast<float>(bearing));
-    scan.valid.push_back(1);
-  }
-  return scan;
-}
+using testing_room::roomScan;
 
 SlamConfig filterConfig(int particles) {
   SlamConfig c;
@@ -154,7 +135,7 @@ SlamConfig filterConfig(int particles) {
 TEST(ParticleFilterTest, InitializeSharesOneMap) {
   ParticleFilter filter(filterConfig(8));
   const Pose2 start(-1.0, 0.2, 0.1);
-  filter.initialize(start, roomScanForFilter(start), 0);
+  filter.initialize(start, roomScan(start), 0);
   ASSERT_EQ(filter.particles().size(), 8u);
   for (const Particle& p : filter.particles()) {
     EXPECT_NEAR(p.pose.x, start.x, 1e-12);
@@ -177,11 +158,11 @@ TEST(ParticleFilterTest, InitializeSharesOneMap) {
 TEST(ParticleFilterTest, UpdateInvariants) {
   ParticleFilter filter(filterConfig(8));
   Pose2 truth(-1.0, 0.2, 0.0);
-  filter.initialize(truth, roomScanForFilter(truth), 0);
+  filter.initialize(truth, roomScan(truth), 0);
   for (int step = 1; step <= 3; ++step) {
     const Pose2 increment(0.5, 0.0, 0.0);
     truth = truth.compose(increment);
-    const FilterStepInfo info = filter.update(increment, roomScanForFilter(truth), step);
+    const FilterStepInfo info = filter.update(increment, roomScan(truth), step);
     EXPECT_GE(info.effective_sample_size, 1.0 - 1e-9);
     EXPECT_LE(info.effective_sample_size, 8.0 + 1e-9);
     double max_log = -1e300, max_cum = -1e300;
@@ -203,13 +184,13 @@ TEST(ParticleFilterTest, UpdateInvariants) {
 TEST(ParticleFilterTest, DeterministicForSeed) {
   ParticleFilter a(filterConfig(6)), b(filterConfig(6));
   Pose2 truth(-1.0, 0.2, 0.0);
-  a.initialize(truth, roomScanForFilter(truth), 0);
-  b.initialize(truth, roomScanForFilter(truth), 0);
+  a.initialize(truth, roomScan(truth), 0);
+  b.initialize(truth, roomScan(truth), 0);
   for (int step = 1; step <= 2; ++step) {
     const Pose2 increment(0.5, 0.05, 0.05);
     truth = truth.compose(increment);
-    a.update(increment, roomScanForFilter(truth), step);
-    b.update(increment, roomScanForFilter(truth), step);
+    a.update(increment, roomScan(truth), step);
+    b.update(increment, roomScan(truth), step);
   }
   for (size_t i = 0; i < 6; ++i) {
     EXPECT_EQ(a.particles()[i].pose.x, b.particles()[i].pose.x);

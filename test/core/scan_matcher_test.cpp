@@ -7,36 +7,14 @@
 
 #include "evidential_slam/core/scan_matcher.h"
 #include "evidential_slam/core/sensor_model.h"
+#include "room_scan.h"
 
 namespace evidential_slam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// 360 beams in a 4 m x 4 m room (walls x, y = ±2) with an extra box corner so the room is not
-// symmetric: a wall segment x = 1 for y in [0.5, 2].
+// The room with its box corner, so it is not symmetric.
 LaserScan roomScan(const Pose2& pose) {
-  LaserScan scan;
-  scan.max_range = 30.0f;
-  for (int i = 0; i < 360; ++i) {
-    const double bearing = -kPi + i * (2 * kPi / 360);
-    const double a = pose.theta + bearing;
-    const double c = std::cos(a), s = std::sin(a);
-    double t = 1e9;
-    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
-    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
-    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
-    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
-    if (c > 1e-9 && pose.x < 1.0) {
-      const double tb = (1.0 - pose.x) / c;
-      const double yb = pose.y + tb * s;
-      if (yb >= 0.5 && yb <= 2.0) t = std::min(t, tb);
-    }
-    scan.ranges.push_back(static_cast<float>(t));
-    scan.bearings.push_back(static_cast<float>(bearing));
-    scan.valid.push_back(1);
-  }
-  return scan;
+  return testing_room::roomScan(pose, 0.0, /*with_box=*/true);
 }
 
 class ScanMatcherTest : public testing::Test {

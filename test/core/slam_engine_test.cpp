@@ -7,33 +7,12 @@
 #include <vector>
 
 #include "evidential_slam/core/slam_engine.h"
+#include "room_scan.h"
 
 namespace evidential_slam {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// 360 beams over a full turn in a 4 m x 4 m room centred on the origin (walls x, y = ±2), seen
-// from `pose` (sensor at the robot origin). Range to the nearest wall along each beam.
-LaserScan roomScan(const Pose2& pose, double stamp) {
-  LaserScan scan;
-  scan.stamp = stamp;
-  scan.max_range = 30.0f;
-  for (int i = 0; i < 360; ++i) {
-    const double bearing = -kPi + i * (2 * kPi / 360);
-    const double a = pose.theta + bearing;
-    const double c = std::cos(a), s = std::sin(a);
-    double t = std::numeric_limits<double>::infinity();
-    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
-    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
-    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
-    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
-    scan.ranges.push_back(static_cast<float>(t));
-    scan.bearings.push_back(static_cast<float>(bearing));
-    scan.valid.push_back(1);
-  }
-  return scan;
-}
+using testing_room::roomScan;
 
 SlamConfig smallConfig() {
   SlamConfig c;
@@ -114,6 +93,32 @@ TEST(SlamEngineTest, Reset) {
 // Smoke test: exact odometry across the room in 0.5 m steps; the best pose stays on the truth
 // (within 0.15 m / 0.05 rad), the map marks the wall cell ahead as occupied and the room centre
 // as free.
+// Poses between processed scans: the odometry over-reports travel by 20 % (true x = 0, 0.2, 0.4,
+// 0.6, 0.8 at t = 1..5; odometry x = 1.2·x). Scans at 0 and 0.72 (odometry) pass the gate and the
+// matcher puts the latter back near x = 0.6. Dead reckoning from x = 0 would put the scans in
+// between at 0.24 and 0.48 (4 and 8 cm off); with the segment's drift (-0.12 m at t = 4) spread
+// over it in proportion to time they land at 0.24 - 0.04 = 0.20 and 0.48 - 0.08 = 0.40.
+TEST(SlamEngineTest, TrajectorySpreadsOdometryDriftBetweenProcessedScans) {
+  SlamConfig c = smallConfig();
+  c.particles = 1;
+  c.motion.alpha_rot_rot = c.motion.alpha_rot_trans = 0.0;
+  c.motion.alpha_trans_trans = c.motion.alpha_trans_rot = 0.0;
+  c.motion.min_sigma_xy = c.motion.min_sigma_theta = 0.0;
+  SlamEngine engine(c);
+  const std::vector<double> truth_x = {0.0, 0.2, 0.4, 0.6, 0.8};
+  for (size_t i = 0; i < truth_x.size(); ++i) {
+    const Pose2 truth(truth_x[i] - 0.3, 0.1, 0.0);  // off the room's centre and cell borders
+    const Pose2 odometry(1.2 * truth_x[i] - 0.3, 0.1, 0.0);
+    engine.processScan(odometry, roomScan(truth, 1.0 + i));
+  }
+  ASSERT_EQ(engine.stats().scans_processed, 2u);  // odometry x = 0 and 0.72 pass the gate
+  const std::vector<StampedPose> path = engine.bestTrajectory();
+  ASSERT_EQ(path.size(), truth_x.size());
+  EXPECT_NEAR(path[3].pose.x, 0.6 - 0.3, 0.025);  // processed, corrected by the matcher
+  EXPECT_NEAR(path[1].pose.x, 0.2 - 0.3, 0.025);  // dead reckoning alone: 0.04 off
+  EXPECT_NEAR(path[2].pose.x, 0.4 - 0.3, 0.025);  // dead reckoning alone: 0.08 off
+}
+
 TEST(SlamEngineTest, RoomSmokeTest) {
   SlamEngine engine(smallConfig());
   for (int i = 0; i <= 6; ++i) {

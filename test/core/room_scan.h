@@ -1,0 +1,41 @@
+// Synthetic scans of a 4 m x 4 m room centred on the origin (walls x, y = ±2) for the core tests:
+// 360 beams over a full turn from `pose` (sensor at the robot origin), each the range to the
+// nearest wall. With `with_box`, a wall segment x = 1 for y in [0.5, 2] breaks the room's symmetry.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "evidential_slam/core/laser_scan.h"
+
+namespace evidential_slam {
+namespace testing_room {
+
+inline LaserScan roomScan(const Pose2& pose, double stamp = 0.0, bool with_box = false) {
+  constexpr double kPi = 3.14159265358979323846;
+  LaserScan scan;
+  scan.stamp = stamp;
+  scan.max_range = 30.0f;
+  for (int i = 0; i < 360; ++i) {
+    const double bearing = -kPi + i * (2 * kPi / 360);
+    const double a = pose.theta + bearing;
+    const double c = std::cos(a), s = std::sin(a);
+    double t = 1e9;
+    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
+    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
+    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
+    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+    if (with_box && c > 1e-9 && pose.x < 1.0) {
+      const double tb = (1.0 - pose.x) / c;
+      const double yb = pose.y + tb * s;
+      if (yb >= 0.5 && yb <= 2.0) t = std::min(t, tb);
+    }
+    scan.ranges.push_back(static_cast<float>(t));
+    scan.bearings.push_back(static_cast<float>(bearing));
+    scan.valid.push_back(1);
+  }
+  return scan;
+}
+
+}  // namespace testing_room
+}  // namespace evidential_slam
