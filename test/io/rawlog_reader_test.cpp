@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include <mrpt/io/CFileGZInputStream.h>
@@ -340,9 +341,11 @@ TEST(RawlogReader, NoOdometryMeansNoScansOut) {
 }
 
 // The real Radish logs (observation-only, CObservationOdometry, 180/360 beams, invalid rays) are
-// benchmark data outside the package; read them when this machine has them.
+// benchmark data outside the package (shared/ beside the clone, or $ES_RADISH_DIR); read them when
+// this machine has them.
 TEST(RawlogReader, RadishLogsWhenAvailable) {
-  const std::string dir = "/work/shared/data/radish/";
+  const char* env_dir = std::getenv("ES_RADISH_DIR");
+  const std::string dir = std::string(env_dir != nullptr ? env_dir : ES_RADISH_DIR) + "/";
   const std::vector<std::pair<std::string, size_t>> logs = {{"intel", 180}, {"freiburg-079", 360}};
   bool any = false;
   for (const auto& [name, beams] : logs) {
