@@ -262,3 +262,41 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
 
 }  // namespace
 }  // namespace evidential_slam
+
+namespace evidential_slam {
+namespace {
+
+// Particles that share a map and propose the same pose are one hypothesis: the scan is
+// integrated once and their maps keep sharing every tile. With zero motion noise (and no matcher)
+// all 8 particles propose the same pose after initialize(): one group, and the 8 maps together
+// hold exactly the tiles of one. With motion noise each particle proposes its own pose: 8 groups.
+TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
+  SlamConfig config;
+  config.particles = 8;
+  config.threads = 1;
+  config.matcher.enabled = false;
+  SlamConfig quiet = config;
+  quiet.motion.alpha_rot_rot = quiet.motion.alpha_rot_trans = 0.0;
+  quiet.motion.alpha_trans_trans = quiet.motion.alpha_trans_rot = 0.0;
+  quiet.motion.min_sigma_xy = quiet.motion.min_sigma_theta = 0.0;
+  const Pose2 start(0.01, 0.02, 0.0);
+  const Pose2 step(0.5, 0.0, 0.0);
+
+  ParticleFilter merged(quiet);
+  merged.initialize(start, roomScan(start), 0);
+  merged.update(step, roomScan(start.compose(step)), 1);
+  EXPECT_EQ(merged.lastUpdateGroups(), 1u);
+  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  const size_t one_map = merged.particles()[0].map.accumulateUniqueTileBytes(&seen);
+  EXPECT_GT(one_map, 0u);
+  EXPECT_EQ(merged.mapMemoryBytes(), one_map);
+
+  ParticleFilter separate(config);
+  separate.initialize(start, roomScan(start), 0);
+  separate.update(step, roomScan(start.compose(step)), 1);
+  EXPECT_EQ(separate.lastUpdateGroups(), 8u);
+  EXPECT_GT(separate.mapMemoryBytes(), one_map);
+}
+
+}  // namespace
+}  // namespace evidential_slam
