@@ -99,8 +99,6 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   const BeamModel* beam_model = &modelsFor(scan).beam;
   beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
   FilterStepInfo info;
-  info.rays_bad = ws.traced.rays_bad;
-  info.rays_no_return = ws.traced.rays_no_return;
   info.best_conflict_added_bits = beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator);
   auto root = std::make_shared<PathNode>();
   root->pose = pose;
@@ -158,7 +156,6 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
 
   // 3. Weight and map update, once per group.
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
-  std::vector<uint64_t> bad(leaders.size(), 0), no_return(leaders.size(), 0);
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
@@ -166,8 +163,6 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     log_pl[g] =
         beam_model->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
     conflict_added[g] = beam_model->integrateScan(ws.traced, &p.map, &ws.accumulator);
-    bad[g] = ws.traced.rays_bad;
-    no_return[g] = ws.traced.rays_no_return;
   });
 
   // 4. Members take their leader's pose, map (shared tiles) and path node.
@@ -193,8 +188,6 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   }
 
   FilterStepInfo info;
-  info.rays_bad = bad.front();
-  info.rays_no_return = no_return.front();
   info.best_conflict_added_bits = conflict_added[group_of[bestIndex()]];
   resampleIfNeeded(&info);
   return info;

@@ -20,6 +20,7 @@ void SlamEngine::reset() {
   have_last_processed_ = false;
   scan_records_.clear();
   step_odometry_.clear();
+  step_stamps_.clear();
 }
 
 ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan) {
@@ -69,6 +70,7 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
   have_last_processed_ = true;
   last_processed_odometry_ = odometry;
   step_odometry_.push_back(odometry);
+  step_stamps_.push_back(scan.stamp);
   scan_records_.back().step = static_cast<int>(step_odometry_.size()) - 1;
   ++stats_.scans_processed;
   if (info.resampled) ++stats_.resamplings;
@@ -96,17 +98,9 @@ std::vector<StampedPose> SlamEngine::bestTrajectory() const {
   out.reserve(scan_records_.size());
   const size_t steps = step_odometry_.size();
   std::vector<Pose2> step_pose(steps);
-  std::vector<double> step_stamp(steps, 0.0);
   if (!filter_->particles().empty()) {
     for (const PathNode* n = filter_->best().path.get(); n != nullptr; n = n->parent.get()) {
       if (n->step >= 0 && static_cast<size_t>(n->step) < steps) step_pose[n->step] = n->pose;
-    }
-  }
-  for (const ScanRecord& r : scan_records_) {
-    if (r.step >= 0 && step_odometry_[r.step].x == r.odometry.x &&
-        step_odometry_[r.step].y == r.odometry.y &&
-        step_odometry_[r.step].theta == r.odometry.theta) {
-      step_stamp[r.step] = r.stamp;
     }
   }
   for (const ScanRecord& r : scan_records_) {
@@ -117,14 +111,14 @@ std::vector<StampedPose> SlamEngine::bestTrajectory() const {
     const size_t s = static_cast<size_t>(r.step);
     // Dead reckoning from the processed scan before this one...
     Pose2 pose = step_pose[s].compose(step_odometry_[s].between(r.odometry));
-    if (s + 1 < steps && step_stamp[s + 1] > step_stamp[s]) {
+    if (s + 1 < steps && step_stamps_[s + 1] > step_stamps_[s]) {
       // ...with the odometry's drift up to the next processed scan spread over the segment in
       // proportion to time (the path is written after the fact, so both ends are known).
       const Pose2 predicted_next =
           step_pose[s].compose(step_odometry_[s].between(step_odometry_[s + 1]));
       const Pose2 drift = predicted_next.between(step_pose[s + 1]);
-      const double alpha =
-          std::clamp((r.stamp - step_stamp[s]) / (step_stamp[s + 1] - step_stamp[s]), 0.0, 1.0);
+      const double alpha = std::clamp(
+          (r.stamp - step_stamps_[s]) / (step_stamps_[s + 1] - step_stamps_[s]), 0.0, 1.0);
       pose = pose.compose(Pose2(alpha * drift.x, alpha * drift.y, alpha * drift.theta));
     }
     out.push_back(StampedPose{r.stamp, pose});

@@ -38,8 +38,6 @@ struct Particle {
 struct FilterStepInfo {
   bool resampled = false;
   double effective_sample_size = 0.0;
-  uint64_t rays_bad = 0;
-  uint64_t rays_no_return = 0;
   double best_conflict_added_bits = 0.0;
 };
 

@@ -76,6 +76,7 @@ class SlamEngine {
   };
   std::vector<ScanRecord> scan_records_;
   std::vector<Pose2> step_odometry_;  // odometry at each processed step
+  std::vector<double> step_stamps_;   // stamp of each processed step's scan
 };
 
 }  // namespace evidential_slam
