@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "evidential_slam/core/particle_filter.h"
-#include "room_scan.h"
+#include "test_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -114,12 +114,6 @@ TEST(SystematicResampleTest, DegenerateWeights) {
   EXPECT_EQ(parents, (std::vector<size_t>(5, 2)));
 }
 
-}  // namespace
-}  // namespace evidential_slam
-
-namespace evidential_slam {
-namespace {
-
 using testing_room::roomScan;
 
 SlamConfig filterConfig(int particles) {
@@ -200,12 +194,6 @@ TEST(ParticleFilterTest, DeterministicForSeed) {
   }
 }
 
-}  // namespace
-}  // namespace evidential_slam
-
-namespace evidential_slam {
-namespace {
-
 // A scan that declares its range noise is modelled with it: one beam along +x with z = 2.0 m
 // (the hit at x = 2.0 lies inside cell (40, 0), whose centre is 2.025 m away: s = +0.025 m).
 // m_hit = Φ((s + Δ/2)/σ) - Φ((s - Δ/2)/σ) = Φ(0.05/σ) - Φ(0), η = 1/(1 - 0.4(1 - m_hit)),
@@ -260,12 +248,6 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
   EXPECT_DOUBLE_EQ(precise_matcher.occupied_threshold, 0.25);
 }
 
-}  // namespace
-}  // namespace evidential_slam
-
-namespace evidential_slam {
-namespace {
-
 // Particles that share a map and propose the same pose are one hypothesis: the scan is
 // integrated once and their maps keep sharing every tile. With zero motion noise (and no matcher)
 // all 8 particles propose the same pose after initialize(): one group, and the 8 maps together
@@ -276,9 +258,7 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
   config.threads = 1;
   config.matcher.enabled = false;
   SlamConfig quiet = config;
-  quiet.motion.alpha_rot_rot = quiet.motion.alpha_rot_trans = 0.0;
-  quiet.motion.alpha_trans_trans = quiet.motion.alpha_trans_rot = 0.0;
-  quiet.motion.min_sigma_xy = quiet.motion.min_sigma_theta = 0.0;
+  quiet.motion = testing_room::noiselessMotion();
   const Pose2 start(0.01, 0.02, 0.0);
   const Pose2 step(0.5, 0.0, 0.0);
 

@@ -7,7 +7,7 @@
 
 #include "evidential_slam/core/scan_matcher.h"
 #include "evidential_slam/core/sensor_model.h"
-#include "room_scan.h"
+#include "test_support.h"
 
 namespace evidential_slam {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "evidential_slam/core/slam_engine.h"
-#include "room_scan.h"
+#include "test_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -101,9 +101,7 @@ TEST(SlamEngineTest, Reset) {
 TEST(SlamEngineTest, TrajectorySpreadsOdometryDriftBetweenProcessedScans) {
   SlamConfig c = smallConfig();
   c.particles = 1;
-  c.motion.alpha_rot_rot = c.motion.alpha_rot_trans = 0.0;
-  c.motion.alpha_trans_trans = c.motion.alpha_trans_rot = 0.0;
-  c.motion.min_sigma_xy = c.motion.min_sigma_theta = 0.0;
+  c.motion = testing_room::noiselessMotion();
   SlamEngine engine(c);
   const std::vector<double> truth_x = {0.0, 0.2, 0.4, 0.6, 0.8};
   for (size_t i = 0; i < truth_x.size(); ++i) {

@@ -1,16 +1,18 @@
-// Synthetic scans of a 4 m x 4 m room centred on the origin (walls x, y = ±2) for the core tests:
-// 360 beams over a full turn from `pose` (sensor at the robot origin), each the range to the
-// nearest wall. With `with_box`, a wall segment x = 1 for y in [0.5, 2] breaks the room's symmetry.
+// Shared helpers of the core tests: a synthetic room scan and a noise-free motion model.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
+#include "evidential_slam/core/config.h"
 #include "evidential_slam/core/laser_scan.h"
 
 namespace evidential_slam {
 namespace testing_room {
 
+// Scan of a 4 m x 4 m room centred on the origin (walls x, y = ±2): 360 beams over a full turn
+// from `pose` (sensor at the robot origin), each the range to the nearest wall. With `with_box`,
+// a wall segment x = 1 for y in [0.5, 2] breaks the room's symmetry.
 inline LaserScan roomScan(const Pose2& pose, double stamp = 0.0, bool with_box = false) {
   constexpr double kPi = 3.14159265358979323846;
   LaserScan scan;
@@ -35,6 +37,14 @@ inline LaserScan roomScan(const Pose2& pose, double stamp = 0.0, bool with_box =
     scan.valid.push_back(1);
   }
   return scan;
+}
+
+// A motion model that adds no noise at all (no α terms, no floor): samples equal the odometry.
+inline MotionModelConfig noiselessMotion() {
+  MotionModelConfig c;
+  c.alpha_rot_rot = c.alpha_rot_trans = c.alpha_trans_trans = c.alpha_trans_rot = 0.0;
+  c.min_sigma_xy = c.min_sigma_theta = 0.0;
+  return c;
 }
 
 }  // namespace testing_room
