@@ -5,7 +5,7 @@
 
 namespace evidential_slam {
 
-const Cell EvidentialGrid::kVacuousCell{};
+const Cell EvidentialGridMap::kVacuousCell{};
 
 void CellBox::extend(const CellBox& other) {
   if (other.empty()) return;
@@ -19,18 +19,18 @@ void CellBox::extend(const CellBox& other) {
   max_y = std::max(max_y, other.max_y);
 }
 
-EvidentialGrid::EvidentialGrid(double resolution) : resolution_(resolution) {}
+EvidentialGridMap::EvidentialGridMap(double resolution) : resolution_(resolution) {}
 
-CellIndex EvidentialGrid::worldToCell(double x, double y) const {
+CellIndex EvidentialGridMap::worldToCell(double x, double y) const {
   return {static_cast<int>(std::floor(x / resolution_)),
           static_cast<int>(std::floor(y / resolution_))};
 }
 
-Eigen::Vector2d EvidentialGrid::cellCenter(const CellIndex& c) const {
+Eigen::Vector2d EvidentialGridMap::cellCenter(const CellIndex& c) const {
   return {(c.x + 0.5) * resolution_, (c.y + 0.5) * resolution_};
 }
 
-void EvidentialGrid::ensureTile(int tx, int ty) {
+void EvidentialGridMap::ensureTile(int tx, int ty) {
   if (tiles_w_ > 0 && tx >= tile_x0_ && ty >= tile_y0_ && tx < tile_x0_ + tiles_w_ &&
       ty < tile_y0_ + tiles_h_) {
     return;
@@ -64,7 +64,7 @@ void EvidentialGrid::ensureTile(int tx, int ty) {
   tiles_h_ = h;
 }
 
-Cell& EvidentialGrid::mutableCellSlow(int cx, int cy) {
+Cell& EvidentialGridMap::mutableCellSlow(int cx, int cy) {
   const int tx = cx >> kTileBits, ty = cy >> kTileBits;
   ensureTile(tx, ty);
   std::shared_ptr<Tile>& slot =
@@ -79,7 +79,7 @@ Cell& EvidentialGrid::mutableCellSlow(int cx, int cy) {
   return slot->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
 }
 
-CellBox EvidentialGrid::allocatedBox() const {
+CellBox EvidentialGridMap::allocatedBox() const {
   CellBox box;
   for (int j = 0; j < tiles_h_; ++j) {
     for (int i = 0; i < tiles_w_; ++i) {
@@ -91,7 +91,7 @@ CellBox EvidentialGrid::allocatedBox() const {
   return box;
 }
 
-CellBox EvidentialGrid::observedBox() const {
+CellBox EvidentialGridMap::observedBox() const {
   CellBox box;
   for (int j = 0; j < tiles_h_; ++j) {
     for (int i = 0; i < tiles_w_; ++i) {
@@ -108,12 +108,12 @@ CellBox EvidentialGrid::observedBox() const {
   return box;
 }
 
-size_t EvidentialGrid::allocatedTiles() const {
+size_t EvidentialGridMap::allocatedTiles() const {
   return static_cast<size_t>(std::count_if(
       tiles_.begin(), tiles_.end(), [](const std::shared_ptr<Tile>& t) { return t != nullptr; }));
 }
 
-size_t EvidentialGrid::accumulateUniqueTileBytes(std::unordered_set<const Tile*>* seen) const {
+size_t EvidentialGridMap::accumulateUniqueTileBytes(std::unordered_set<const Tile*>* seen) const {
   size_t bytes = 0;
   for (const auto& t : tiles_) {
     if (t && seen->insert(t.get()).second) bytes += sizeof(Tile);

@@ -2,7 +2,7 @@
 
 namespace evidential_slam {
 
-LayerRaster extractLayers(const EvidentialGrid& grid, int margin_cells) {
+LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells) {
   CellBox box = grid.observedBox();
   if (box.empty()) return extractLayers(grid, box);
   box.min_x -= margin_cells;
@@ -12,7 +12,7 @@ LayerRaster extractLayers(const EvidentialGrid& grid, int margin_cells) {
   return extractLayers(grid, box);
 }
 
-LayerRaster extractLayers(const EvidentialGrid& grid, const CellBox& box) {
+LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box) {
   LayerRaster r;
   r.resolution = grid.resolution();
   r.width = box.width();

@@ -53,6 +53,16 @@ ParticleFilter::ParticleFilter(const SlamConfig& config)
 
 ParticleFilter::~ParticleFilter() = default;
 
+void ParticleFilter::reconfigure(const SlamConfig& config) {
+  SlamConfig next = config;
+  next.particles = config_.particles;
+  next.resolution = config_.resolution;
+  next.seed = config_.seed;
+  next.threads = config_.threads;
+  config_ = next;
+  models_.clear();  // rebuilt from the new sensor and matcher parameters at the next scan
+}
+
 size_t ParticleFilter::bestIndex() const {
   size_t best = 0;
   for (size_t i = 1; i < particles_.size(); ++i) {
@@ -62,7 +72,7 @@ size_t ParticleFilter::bestIndex() const {
 }
 
 size_t ParticleFilter::mapMemoryBytes() const {
-  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  std::unordered_set<const EvidentialGridMap::Tile*> seen;
   size_t bytes = 0;
   for (const Particle& p : particles_) bytes += p.map.accumulateUniqueTileBytes(&seen);
   return bytes;
@@ -91,7 +101,7 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   particles_.assign(static_cast<size_t>(config_.particles), Particle{});
   for (Particle& p : particles_) {
     p.pose = pose;
-    p.map = EvidentialGrid(config_.resolution);
+    p.map = EvidentialGridMap(config_.resolution);
   }
   // All particles would integrate the same scan at the same pose: do it once and share the tiles.
   Particle& first = particles_.front();

@@ -53,7 +53,7 @@ std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan) const {
   return pts;
 }
 
-double ScanMatcher::score(const EvidentialGrid& map, const Pose2& pose,
+double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
                           const std::vector<MatchPoint>& pts) const {
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
   const double inv_res = 1.0 / resolution_;
@@ -84,7 +84,7 @@ double ScanMatcher::score(const EvidentialGrid& map, const Pose2& pose,
   return total;
 }
 
-bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<MatchPoint>& pts,
+bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
                           Pose2* pose) const {
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
   const float threshold = static_cast<float>(config_.occupied_threshold);
@@ -137,7 +137,7 @@ bool ScanMatcher::icpStep(const EvidentialGrid& map, const std::vector<MatchPoin
   return true;
 }
 
-Pose2 ScanMatcher::hillClimb(const EvidentialGrid& map, const Pose2& start,
+Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
                              const std::vector<MatchPoint>& pts) const {
   Pose2 current = start;
   double current_score = score(map, current, pts);
@@ -167,7 +167,7 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGrid& map, const Pose2& start,
   return current;
 }
 
-Pose2 ScanMatcher::refine(const EvidentialGrid& map, const Pose2& initial,
+Pose2 ScanMatcher::refine(const EvidentialGridMap& map, const Pose2& initial,
                           const std::vector<MatchPoint>& pts) const {
   if (pts.empty()) return initial;
   Pose2 pose = initial;

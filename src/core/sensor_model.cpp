@@ -39,7 +39,7 @@ void ScanAccumulator::reset(const CellIndex& center, int half_size) {
   }
 }
 
-double ScanAccumulator::applyTo(EvidentialGrid* map) const {
+double ScanAccumulator::applyTo(EvidentialGridMap* map) const {
   double added = 0.0;
   for (const Touched& t : touched_) {
     Cell& c = map->mutableCell(t.x, t.y);
@@ -104,7 +104,7 @@ ScanMass BeamModel::clearMass() const {
   return m;
 }
 
-double BeamModel::beamPlausibility(const EvidentialGrid& map, const RayCell* cells, size_t n,
+double BeamModel::beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
                                    double z) const {
   // One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1}):
   // T is the probability that the beam got past every cell so far, S the plausibility collected.
@@ -127,7 +127,7 @@ double BeamModel::beamPlausibility(const EvidentialGrid& map, const RayCell* cel
   return (1.0 - r) * s + r;
 }
 
-double BeamModel::scanLogPlausibility(const EvidentialGrid& map, const TracedScan& traced,
+double BeamModel::scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced,
                                       int stride) const {
   double sum = 0.0;
   int k = 0;
@@ -212,7 +212,7 @@ void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
   }
 }
 
-double BeamModel::integrateScan(const TracedScan& traced, EvidentialGrid* map,
+double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map,
                                 ScanAccumulator* scratch) const {
   if (traced.cells.empty()) return 0.0;
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace evidential_slam {
@@ -21,6 +22,18 @@ void SlamEngine::reset() {
   scan_records_.clear();
   step_odometry_.clear();
   step_stamps_.clear();
+}
+
+bool SlamEngine::reconfigure(const SlamConfig& config, std::string* why) {
+  SlamConfig next = config;
+  next.particles = config_.particles;
+  next.resolution = config_.resolution;
+  next.seed = config_.seed;
+  next.threads = config_.threads;
+  if (!next.isValid(why)) return false;
+  config_ = next;
+  filter_->reconfigure(config_);
+  return true;
 }
 
 ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan) {
@@ -80,8 +93,8 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
   return out;
 }
 
-const EvidentialGrid& SlamEngine::bestMap() const {
-  static const EvidentialGrid kEmpty(0.05);
+const EvidentialGridMap& SlamEngine::bestMap() const {
+  static const EvidentialGridMap kEmpty(0.05);
   if (filter_->particles().empty()) return kEmpty;
   return filter_->best().map;
 }
@@ -89,6 +102,48 @@ const EvidentialGrid& SlamEngine::bestMap() const {
 Pose2 SlamEngine::bestPose() const {
   if (!have_last_processed_ || filter_->particles().empty()) return last_odometry_;
   return filter_->best().pose.compose(last_processed_odometry_.between(last_odometry_));
+}
+
+void SlamEngine::particlePoses(std::vector<Pose2>* poses, std::vector<double>* weights) const {
+  poses->clear();
+  weights->clear();
+  const std::vector<Particle>& particles = filter_->particles();
+  if (!have_last_processed_ || particles.empty()) {
+    poses->push_back(last_odometry_);
+    weights->push_back(1.0);
+    return;
+  }
+  const Pose2 since = last_processed_odometry_.between(last_odometry_);
+  double max_log = -std::numeric_limits<double>::infinity();
+  for (const Particle& p : particles) max_log = std::max(max_log, p.log_weight);
+  double total = 0.0;
+  for (const Particle& p : particles) {
+    poses->push_back(p.pose.compose(since));
+    weights->push_back(std::exp(p.log_weight - max_log));
+    total += weights->back();
+  }
+  for (double& w : *weights) w /= total;
+}
+
+PoseEstimate SlamEngine::poseEstimate() const {
+  std::vector<Pose2> poses;
+  std::vector<double> weights;
+  particlePoses(&poses, &weights);
+  PoseEstimate e;
+  double x = 0.0, y = 0.0, s = 0.0, c = 0.0;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    x += weights[i] * poses[i].x;
+    y += weights[i] * poses[i].y;
+    s += weights[i] * std::sin(poses[i].theta);
+    c += weights[i] * std::cos(poses[i].theta);
+  }
+  e.mean = Pose2(x, y, std::atan2(s, c));
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Vector3d d(poses[i].x - e.mean.x, poses[i].y - e.mean.y,
+                            normalizeAngle(poses[i].theta - e.mean.theta));
+    e.covariance += weights[i] * d * d.transpose();
+  }
+  return e;
 }
 
 Pose2 SlamEngine::mapToOdom() const { return bestPose().compose(last_odometry_.inverse()); }

@@ -32,7 +32,7 @@ void expectVacuous(const Cell& c) {
 
 // Fresh grid: every cell, anywhere (including negative indices), reads vacuous; nothing allocated.
 TEST(EvidentialGridTest, FreshGridIsVacuous) {
-  const EvidentialGrid g(0.05);
+  const EvidentialGridMap g(0.05);
   EXPECT_DOUBLE_EQ(g.resolution(), 0.05);
   expectVacuous(g.cell(0, 0));
   expectVacuous(g.cell(-1, -1));
@@ -46,7 +46,7 @@ TEST(EvidentialGridTest, FreshGridIsVacuous) {
 // Cell (i, j) covers [i res, (i+1) res): at res 0.05, x = 0.051 -> 1, 0.049 -> 0, -0.001 -> -1,
 // -0.049 -> -1, -0.051 -> -2 (floor, not truncation). Centre of (-1, 1) = (-0.025, 0.075).
 TEST(EvidentialGridTest, WorldToCellAndCellCenter) {
-  const EvidentialGrid g(0.05);
+  const EvidentialGridMap g(0.05);
   EXPECT_EQ(g.worldToCell(0.051, 0.049), (CellIndex{1, 0}));
   EXPECT_EQ(g.worldToCell(-0.001, -0.049), (CellIndex{-1, -1}));
   EXPECT_EQ(g.worldToCell(-0.051, 0.0001), (CellIndex{-2, 0}));
@@ -58,13 +58,13 @@ TEST(EvidentialGridTest, WorldToCellAndCellCenter) {
   EXPECT_NEAR(d.x(), 3.025, 1e-12);
   EXPECT_NEAR(d.y(), -2.025, 1e-12);
   // Another resolution: 0.1 m, x = 0.25 -> 2, y = -0.25 -> -3.
-  const EvidentialGrid h(0.1);
+  const EvidentialGridMap h(0.1);
   EXPECT_EQ(h.worldToCell(0.25, -0.25), (CellIndex{2, -3}));
 }
 
 // Writes through mutableCell persist and do not touch neighbours.
 TEST(EvidentialGridTest, MutableCellWritesPersist) {
-  EvidentialGrid g(0.05);
+  EvidentialGridMap g(0.05);
   g.mutableCell(3, 4) = makeCell(0.5f, 0.25f, 0.125f);
   g.mutableCell(-3, -4) = makeCell(0.75f, 0.0f, 1.0f);
   expectCell(g.cell(3, 4), 0.5f, 0.25f, 0.125f);
@@ -81,7 +81,7 @@ TEST(EvidentialGridTest, MutableCellWritesPersist) {
 // The grid grows towards negative and positive coordinates (±500 m = ±10000 cells at 0.05 m)
 // without losing what was written before; cells in between stay vacuous.
 TEST(EvidentialGridTest, GrowsInAllDirectionsKeepingCells) {
-  EvidentialGrid g(0.05);
+  EvidentialGridMap g(0.05);
   g.mutableCell(0, 0) = makeCell(0.1f, 0.2f, 0.0f);
   g.mutableCell(31, 31) = makeCell(0.3f, 0.0f, 0.0f);
   g.mutableCell(-10000, -10000) = makeCell(0.4f, 0.1f, 0.5f);
@@ -112,7 +112,7 @@ TEST(EvidentialGridTest, GrowsInAllDirectionsKeepingCells) {
 
 // Growth one tile at a time in each direction (the resize paths), checking earlier cells each time.
 TEST(EvidentialGridTest, StepwiseGrowthKeepsCells) {
-  EvidentialGrid g(0.05);
+  EvidentialGridMap g(0.05);
   for (int k = 0; k < 20; ++k) {
     const int d = 37 * k;
     g.mutableCell(d, -d) = makeCell(0.01f * k, 0.0f, 0.0f);
@@ -129,7 +129,7 @@ TEST(EvidentialGridTest, StepwiseGrowthKeepsCells) {
 // a further write to (-1, 40) adds tile (-1, 1) = x [-32,-1], y [32,63]; their bounding box is
 // x [-32, 31], y [0, 63]. observedBox is tight around the two written cells: x [-1,0], y [0,40].
 TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
-  EvidentialGrid g(0.05);
+  EvidentialGridMap g(0.05);
   g.mutableCell(0, 0) = makeCell(0.5f, 0.0f, 0.0f);
   CellBox a = g.allocatedBox();
   EXPECT_EQ(a.min_x, 0);
@@ -159,7 +159,7 @@ TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
 // mutableCell without writing allocates but does not observe: a cell that only got a lambda
 // counts as observed (EC is evidence), a merely touched cell does not.
 TEST(EvidentialGridTest, ObservedBoxIgnoresTouchedVacuousCells) {
-  EvidentialGrid g(0.05);
+  EvidentialGridMap g(0.05);
   g.mutableCell(5, 6) = makeCell(0.2f, 0.0f, 0.0f);
   g.mutableCell(200, 300);  // allocate only
   CellBox o = g.observedBox();
@@ -201,12 +201,12 @@ TEST(CellBoxTest, ExtendAndSize) {
 // Copy-on-write: after `b = a` (copy construction), a write to b leaves a unchanged, and a write
 // to a leaves b unchanged; unwritten cells of the shared tile stay equal in both.
 TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
-  EvidentialGrid a(0.05);
+  EvidentialGridMap a(0.05);
   a.mutableCell(1, 1) = makeCell(0.5f, 0.0f, 0.0f);
   a.mutableCell(2, 1) = makeCell(0.0f, 0.5f, 0.0f);
   a.mutableCell(-40, 70) = makeCell(0.25f, 0.25f, 0.0f);
 
-  EvidentialGrid b = a;
+  EvidentialGridMap b = a;
   expectCell(b.cell(1, 1), 0.5f, 0.0f, 0.0f);
   expectCell(b.cell(-40, 70), 0.25f, 0.25f, 0.0f);
 
@@ -229,15 +229,15 @@ TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
 // Copy-on-write with copy assignment into an existing grid, with growth after the copy, and among
 // three "particles" sharing one map: a write by one never shows up in the others.
 TEST(EvidentialGridTest, CopyOnWriteAssignmentGrowthAndThreeParticles) {
-  EvidentialGrid a(0.05);
+  EvidentialGridMap a(0.05);
   a.mutableCell(0, 0) = makeCell(0.5f, 0.0f, 0.0f);
-  EvidentialGrid b(0.05);
+  EvidentialGridMap b(0.05);
   b.mutableCell(100, 100) = makeCell(0.1f, 0.1f, 0.1f);
   b = a;
   expectCell(b.cell(0, 0), 0.5f, 0.0f, 0.0f);
   expectVacuous(b.cell(100, 100));  // b's old content is gone
 
-  EvidentialGrid c = b;
+  EvidentialGridMap c = b;
   // b grows far away (the tile array is re-laid out) and writes into the shared tile.
   b.mutableCell(-3000, 2500) = makeCell(0.3f, 0.3f, 0.3f);
   b.mutableCell(0, 0).occupied = 0.8f;
@@ -260,29 +260,29 @@ TEST(EvidentialGridTest, CopyOnWriteAssignmentGrowthAndThreeParticles) {
 // one-tile grid, at least sizeof(Tile)), a 3-tile grid is 3P, an unmodified copy adds 0, and a
 // copy that wrote one tile adds exactly one cloned tile, P.
 TEST(EvidentialGridTest, AccumulateUniqueTileBytesCountsSharedTilesOnce) {
-  EvidentialGrid one(0.05);
+  EvidentialGridMap one(0.05);
   one.mutableCell(0, 0).occupied = 0.5f;
-  std::unordered_set<const EvidentialGrid::Tile*> seen_one;
+  std::unordered_set<const EvidentialGridMap::Tile*> seen_one;
   const size_t per_tile = one.accumulateUniqueTileBytes(&seen_one);
-  EXPECT_GE(per_tile, sizeof(EvidentialGrid::Tile));
+  EXPECT_GE(per_tile, sizeof(EvidentialGridMap::Tile));
   EXPECT_EQ(one.accumulateUniqueTileBytes(&seen_one), 0u);  // already seen
 
-  EvidentialGrid a(0.05);
+  EvidentialGridMap a(0.05);
   a.mutableCell(0, 0).occupied = 0.5f;    // tile (0,0)
   a.mutableCell(40, 0).occupied = 0.5f;   // tile (1,0)
   a.mutableCell(-5, -5).occupied = 0.5f;  // tile (-1,-1)
   EXPECT_EQ(a.allocatedTiles(), 3u);
-  EvidentialGrid b = a;
-  EvidentialGrid c = a;
+  EvidentialGridMap b = a;
+  EvidentialGridMap c = a;
   EXPECT_EQ(b.allocatedTiles(), 3u);
 
-  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  std::unordered_set<const EvidentialGridMap::Tile*> seen;
   EXPECT_EQ(a.accumulateUniqueTileBytes(&seen), 3 * per_tile);
   EXPECT_EQ(b.accumulateUniqueTileBytes(&seen), 0u);
   EXPECT_EQ(c.accumulateUniqueTileBytes(&seen), 0u);
 
   b.mutableCell(41, 1).free = 0.25f;  // clones tile (1,0) only
-  std::unordered_set<const EvidentialGrid::Tile*> seen2;
+  std::unordered_set<const EvidentialGridMap::Tile*> seen2;
   EXPECT_EQ(a.accumulateUniqueTileBytes(&seen2), 3 * per_tile);
   EXPECT_EQ(b.accumulateUniqueTileBytes(&seen2), per_tile);
   EXPECT_EQ(c.accumulateUniqueTileBytes(&seen2), 0u);

@@ -37,8 +37,8 @@ const std::vector<double> kAsymmetric = {
     0.6, 0.1, 0.3, 0.0, 0.75, 0.3, 0.22339466555577, 0.0, 0.81127812445913};
 
 // Grid with (2,3) certain occupied, (4,3) conflicting, (5,2) asymmetric; resolution 0.05.
-EvidentialGrid makeGrid() {
-  EvidentialGrid g(0.05);
+EvidentialGridMap makeGrid() {
+  EvidentialGridMap g(0.05);
   g.mutableCell(2, 3) = makeCell(1.0, 0.0, 0.0);
   g.mutableCell(4, 3) = makeCell(0.6, 0.2, 0.5);
   g.mutableCell(5, 2) = makeCell(0.6, 0.1, 0.0);
@@ -65,7 +65,7 @@ void expectSizes(const LayerRaster& r, int width, int height) {
 // Explicit box x [1,5], y [2,4]: width 5, height 3, origin = corner of cell (1,2) = (0.05, 0.10).
 // index(cx, cy) = (cy - 2) * 5 + (cx - 1): (2,3) -> 6, (4,3) -> 8, (5,2) -> 4; all others vacuous.
 TEST(LayersTest, ExplicitBoxLayoutAndValues) {
-  const EvidentialGrid g = makeGrid();
+  const EvidentialGridMap g = makeGrid();
   const LayerRaster r = extractLayers(g, CellBox{1, 2, 5, 4});
   expectSizes(r, 5, 3);
   EXPECT_DOUBLE_EQ(r.resolution, 0.05);
@@ -92,7 +92,7 @@ TEST(LayersTest, ExplicitBoxLayoutAndValues) {
 
 // The raster values equal layerValue() of the grid's cells everywhere in the box.
 TEST(LayersTest, ValuesEqualLayerValueOfCells) {
-  const EvidentialGrid g = makeGrid();
+  const EvidentialGridMap g = makeGrid();
   const CellBox box{0, 1, 6, 5};
   const LayerRaster r = extractLayers(g, box);
   expectSizes(r, 7, 5);
@@ -110,7 +110,7 @@ TEST(LayersTest, ValuesEqualLayerValueOfCells) {
 // Margin form: observed box x [2,5], y [2,3]; margin 1 -> x [1,6], y [1,4]: width 6, height 4,
 // origin (0.05, 0.05); index = (cy - 1) * 6 + (cx - 1): (2,3) -> 13, (4,3) -> 15, (5,2) -> 10.
 TEST(LayersTest, MarginAroundObservedBox) {
-  const EvidentialGrid g = makeGrid();
+  const EvidentialGridMap g = makeGrid();
   const LayerRaster r = extractLayers(g, 1);
   expectSizes(r, 6, 4);
   EXPECT_NEAR(r.origin_x, 0.05, 1e-12);
@@ -131,7 +131,7 @@ TEST(LayersTest, MarginAroundObservedBox) {
 // Margin 0: exactly the observed box x [2,5], y [2,3]: width 4, height 2, origin (0.10, 0.10);
 // (2,3) -> row 1 col 0 = 4, (4,3) -> 6, (5,2) -> row 0 col 3 = 3.
 TEST(LayersTest, ZeroMargin) {
-  const EvidentialGrid g = makeGrid();
+  const EvidentialGridMap g = makeGrid();
   const LayerRaster r = extractLayers(g, 0);
   expectSizes(r, 4, 2);
   EXPECT_NEAR(r.origin_x, 0.10, 1e-12);
@@ -144,7 +144,7 @@ TEST(LayersTest, ZeroMargin) {
 // Negative cell indices: box x [-4,-2], y [-3,-1] at 0.05 m -> origin (-0.20, -0.15), 3 x 3;
 // cell (-3,-2) is row 1 col 1 = index 4; cell (-2,-3) is row 0 col 2 = index 2.
 TEST(LayersTest, NegativeCoordinates) {
-  EvidentialGrid g(0.05);
+  EvidentialGridMap g(0.05);
   g.mutableCell(-3, -2) = makeCell(1.0, 0.0, 0.0);
   g.mutableCell(-2, -3) = makeCell(0.6, 0.2, 0.5);
   const LayerRaster r = extractLayers(g, CellBox{-4, -3, -2, -1});

@@ -138,12 +138,12 @@ TEST(ParticleFilterTest, InitializeSharesOneMap) {
     ASSERT_NE(p.path, nullptr);
     EXPECT_EQ(p.path->step, 0);
   }
-  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  std::unordered_set<const EvidentialGridMap::Tile*> seen;
   const size_t one_map = filter.particles()[0].map.accumulateUniqueTileBytes(&seen);
   EXPECT_GT(one_map, 0u);
   EXPECT_EQ(filter.mapMemoryBytes(), one_map);
   // The shared map holds the first scan.
-  const EvidentialGrid& map = filter.particles()[0].map;
+  const EvidentialGridMap& map = filter.particles()[0].map;
   EXPECT_FALSE(map.observedBox().empty());
 }
 
@@ -266,7 +266,7 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
   merged.initialize(start, roomScan(start), 0);
   merged.update(step, roomScan(start.compose(step)), 1);
   EXPECT_EQ(merged.lastUpdateGroups(), 1u);
-  std::unordered_set<const EvidentialGrid::Tile*> seen;
+  std::unordered_set<const EvidentialGridMap::Tile*> seen;
   const size_t one_map = merged.particles()[0].map.accumulateUniqueTileBytes(&seen);
   EXPECT_GT(one_map, 0u);
   EXPECT_EQ(merged.mapMemoryBytes(), one_map);

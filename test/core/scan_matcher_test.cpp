@@ -35,7 +35,7 @@ class ScanMatcherTest : public testing::Test {
 
   BeamModel model_;
   ScanMatcher matcher_;
-  EvidentialGrid map_{0.05};
+  EvidentialGridMap map_{0.05};
   Pose2 truth_;
   std::vector<MatchPoint> endpoints_;
 };
@@ -64,7 +64,7 @@ TEST_F(ScanMatcherTest, RefineRecoversPerturbedPose) {
 
 // On an empty map nothing can be matched: the initial pose is returned unchanged.
 TEST_F(ScanMatcherTest, EmptyMapKeepsPose) {
-  const EvidentialGrid empty(0.05);
+  const EvidentialGridMap empty(0.05);
   const Pose2 start(0.5, 0.5, 0.5);
   const Pose2 refined = matcher_.refine(empty, start, endpoints_);
   EXPECT_DOUBLE_EQ(refined.x, start.x);

@@ -84,7 +84,7 @@ class ForwardModelTest : public testing::Test {
   }
 
   BeamModel model_;
-  EvidentialGrid map_{kRes};
+  EvidentialGridMap map_{kRes};
   std::vector<RayCell> ray_;
 };
 
@@ -288,7 +288,7 @@ TEST(IntegrateScanTest, SingleBeamMatchesInverseModel) {
   const BeamModel model(paperConfig(), kRes);
   TracedScan traced;
   model.traceScan(kSensor, makeScan({1.0f}, {0.0f}, {1}), &traced);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   ScanAccumulator scratch;
   EXPECT_NEAR(model.integrateScan(traced, &map, &scratch), 0.0, 1e-9);  // vacuous map: K = 0
 
@@ -322,7 +322,7 @@ TEST(IntegrateScanTest, RotatedSensor) {
   TracedScan traced;
   model.traceScan(Pose2(0.025, 0.025, kPi / 2),
                   makeScan({1.0f}, {static_cast<float>(kPi / 2)}, {1}), &traced);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   ScanAccumulator scratch;
   model.integrateScan(traced, &map, &scratch);
   EXPECT_NEAR(map.cell(-20, 0).occupied, 0.62554889, 1e-3);
@@ -343,7 +343,7 @@ TEST(IntegrateScanTest, DempsterWithinScanConjunctiveBetweenScans) {
   const BeamModel model(paperConfig(), kRes);
   TracedScan traced;
   model.traceScan(kSensor, makeScan({1.0f, 2.0f}, {0.0f, 0.0f}, {1, 1}), &traced);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   ScanAccumulator scratch;
   EXPECT_NEAR(model.integrateScan(traced, &map, &scratch), 0.0, 1e-9);
   EXPECT_NEAR(map.cell(20, 0).occupied, 0.25043950, kTable);
@@ -366,7 +366,7 @@ TEST(IntegrateScanTest, NoReturnClearsUpToUsableRange) {
   model.traceScan(kSensor, makeScan({30.0f}, {static_cast<float>(kPi / 2)}, {0}), &traced);
   EXPECT_EQ(traced.rays_no_return, 1u);
   for (const TracedBeam& b : traced.beams) EXPECT_FALSE(b.hit);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   ScanAccumulator scratch;
   model.integrateScan(traced, &map, &scratch);
   EXPECT_NEAR(map.cell(0, 100).free, 0.8, 1e-6);  // 5 m
@@ -382,7 +382,7 @@ TEST(IntegrateScanTest, BeyondUsableRangeOnlyClears) {
   const BeamModel model(paperConfig(), kRes);
   TracedScan traced;
   model.traceScan(kSensor, makeScan({25.0f}, {static_cast<float>(kPi)}, {1}), &traced);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   ScanAccumulator scratch;
   model.integrateScan(traced, &map, &scratch);
   EXPECT_NEAR(map.cell(-100, 0).free, 0.8, 1e-6);  // centre at -4.975: 5 m away
@@ -400,7 +400,7 @@ TEST(IntegrateScanTest, BadRangesAreSkipped) {
   const float inf = std::numeric_limits<float>::infinity();
   model.traceScan(kSensor, makeScan({nan, inf, -1.0f}, {0.0f, 0.5f, 1.0f}, {1, 1, 1}), &traced);
   EXPECT_EQ(traced.rays_bad, 3u);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   ScanAccumulator scratch;
   model.integrateScan(traced, &map, &scratch);
   EXPECT_TRUE(map.observedBox().empty());
@@ -414,7 +414,7 @@ TEST(IntegrateScanTest, ScanLogPlausibility) {
   const BeamModel model(paperConfig(), kRes);
   TracedScan traced;
   model.traceScan(kSensor, makeScan({1.0f}, {0.0f}, {1}), &traced);
-  EvidentialGrid map(kRes);
+  EvidentialGridMap map(kRes);
   EXPECT_NEAR(model.scanLogPlausibility(map, traced, 1), -3.838e-5, 1e-4);
   ScanAccumulator scratch;
   model.integrateScan(traced, &map, &scratch);

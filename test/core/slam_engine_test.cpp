@@ -117,6 +117,65 @@ TEST(SlamEngineTest, TrajectorySpreadsOdometryDriftBetweenProcessedScans) {
   EXPECT_NEAR(path[2].pose.x, 0.4 - 0.3, 0.025);  // dead reckoning alone: 0.08 off
 }
 
+// reconfigure(): the motion gate changes for the next scan; particles and maps are kept; the
+// start-up parameters keep their values; an invalid configuration changes nothing.
+TEST(SlamEngineTest, ReconfigureWhileRunning) {
+  SlamEngine engine(smallConfig());
+  EXPECT_TRUE(engine.processScan(Pose2(), roomScan(Pose2(), 1.0)).processed);
+  EXPECT_FALSE(engine.processScan(Pose2(0.3, 0, 0), roomScan(Pose2(0.3, 0, 0), 2.0)).processed);
+
+  SlamConfig changed = engine.config();
+  changed.update_min_distance = 0.2;
+  changed.particles = 50;    // start-up only: ignored
+  changed.resolution = 0.1;  // start-up only: ignored
+  changed.sensor.random_weight = 0.3;
+  std::string why;
+  ASSERT_TRUE(engine.reconfigure(changed, &why)) << why;
+  EXPECT_EQ(engine.config().particles, 4);
+  EXPECT_DOUBLE_EQ(engine.config().resolution, 0.05);
+  EXPECT_DOUBLE_EQ(engine.config().update_min_distance, 0.2);
+  EXPECT_DOUBLE_EQ(engine.filter().config().sensor.random_weight, 0.3);
+  EXPECT_EQ(engine.filter().particles().size(), 4u);
+  EXPECT_TRUE(engine.processScan(Pose2(0.35, 0, 0), roomScan(Pose2(0.35, 0, 0), 3.0)).processed);
+  EXPECT_EQ(engine.stats().scans_processed, 2u);  // the history was kept
+
+  SlamConfig invalid = engine.config();
+  invalid.sensor.random_weight = 1.5;
+  why.clear();
+  EXPECT_FALSE(engine.reconfigure(invalid, &why));
+  EXPECT_FALSE(why.empty());
+  EXPECT_DOUBLE_EQ(engine.config().sensor.random_weight, 0.3);
+}
+
+// Particle poses at the latest scan carry the odometry since the last processed scan; weights are
+// normalised. Before any scan the estimate is the odometry with zero covariance. With exact
+// odometry and the zero-noise motion model every particle sits on the truth: mean = truth.
+TEST(SlamEngineTest, ParticlePosesAndEstimate) {
+  SlamConfig config = smallConfig();
+  config.motion = testing_room::noiselessMotion();
+  SlamEngine engine(config);
+  PoseEstimate e = engine.poseEstimate();
+  EXPECT_DOUBLE_EQ(e.mean.x, 0.0);
+  EXPECT_DOUBLE_EQ(e.covariance.norm(), 0.0);
+
+  engine.processScan(Pose2(), roomScan(Pose2(), 1.0));
+  engine.processScan(Pose2(0.2, 0.0, 0.0), roomScan(Pose2(0.2, 0.0, 0.0), 2.0));  // gated
+  std::vector<Pose2> poses;
+  std::vector<double> weights;
+  engine.particlePoses(&poses, &weights);
+  ASSERT_EQ(poses.size(), 4u);
+  double total = 0.0;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    EXPECT_NEAR(poses[i].x, 0.2, 1e-6) << i;
+    EXPECT_NEAR(poses[i].y, 0.0, 1e-6) << i;
+    total += weights[i];
+  }
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  e = engine.poseEstimate();
+  EXPECT_NEAR(e.mean.x, 0.2, 1e-6);
+  EXPECT_NEAR(e.covariance(0, 0), 0.0, 1e-9);
+}
+
 TEST(SlamEngineTest, RoomSmokeTest) {
   SlamEngine engine(smallConfig());
   for (int i = 0; i <= 6; ++i) {
@@ -127,7 +186,7 @@ TEST(SlamEngineTest, RoomSmokeTest) {
     EXPECT_NEAR(u.best_pose.y, truth.y, 0.15) << "scan " << i;
     EXPECT_NEAR(normalizeAngle(u.best_pose.theta - truth.theta), 0.0, 0.05) << "scan " << i;
   }
-  const EvidentialGrid& map = engine.bestMap();
+  const EvidentialGridMap& map = engine.bestMap();
   // Wall x = 2 at y = 0.1: the hit points lie on the boundary between cells 39 and 40.
   const CellIndex wall = map.worldToCell(1.99, 0.125);
   const CellIndex wall2 = map.worldToCell(2.01, 0.125);

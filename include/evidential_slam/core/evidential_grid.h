@@ -33,7 +33,7 @@ struct CellBox {
   void extend(const CellBox& other);
 };
 
-class EvidentialGrid {
+class EvidentialGridMap {
  public:
   static constexpr int kTileBits = 5;
   static constexpr int kTileSize = 1 << kTileBits;  // cells per tile side
@@ -42,8 +42,8 @@ class EvidentialGrid {
     std::array<Cell, kTileCells> cells{};
   };
 
-  EvidentialGrid() : EvidentialGrid(0.05) {}
-  explicit EvidentialGrid(double resolution);
+  EvidentialGridMap() : EvidentialGridMap(0.05) {}
+  explicit EvidentialGridMap(double resolution);
 
   double resolution() const { return resolution_; }
   CellIndex worldToCell(double x, double y) const;

@@ -25,8 +25,8 @@ struct LayerRaster {
 };
 
 // Rasterises the observed part of `grid` plus `margin_cells` of vacuous border on each side.
-LayerRaster extractLayers(const EvidentialGrid& grid, int margin_cells = 10);
+LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells = 10);
 // Rasterises an explicit box.
-LayerRaster extractLayers(const EvidentialGrid& grid, const CellBox& box);
+LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box);
 
 }  // namespace evidential_slam

@@ -30,7 +30,7 @@ struct Particle {
   Pose2 pose;
   double log_weight = 0.0;             // since the last resampling, normalised so the max is 0
   double cumulative_log_weight = 0.0;  // over the whole history (paper §5: output selection)
-  EvidentialGrid map;
+  EvidentialGridMap map;
   uint64_t map_id = 0;  // equal ids: identical maps (copies not written since)
   std::shared_ptr<const PathNode> path;
 };
@@ -51,6 +51,12 @@ class ParticleFilter {
   // Later scans: sample from the motion model for the odometry increment, refine, weight,
   // integrate, resample if needed.
   FilterStepInfo update(const Pose2& odometry_increment, const LaserScan& scan, int step);
+
+  // Replaces the parameters that may change while running (sensor model, motion model, matcher,
+  // weighting, resampling, merging). The particle count, resolution, seed and threads stay as
+  // constructed: they shape the particles and maps that exist.
+  void reconfigure(const SlamConfig& config);
+  const SlamConfig& config() const { return config_; }
 
   const std::vector<Particle>& particles() const { return particles_; }
   size_t bestIndex() const;

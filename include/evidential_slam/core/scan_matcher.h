@@ -30,17 +30,17 @@ class ScanMatcher {
   // Beam endpoints in the robot frame used for matching (every beam_stride-th usable hit).
   std::vector<MatchPoint> endpoints(const LaserScan& scan) const;
   // Σ over endpoints of the best m̃(o)(hit)·m̃(e)(free)·exp(-d²/2σ²) over 3x3 cell offsets.
-  double score(const EvidentialGrid& map, const Pose2& robot_pose,
+  double score(const EvidentialGridMap& map, const Pose2& robot_pose,
                const std::vector<MatchPoint>& endpoints) const;
   // Refined pose, or `initial` when too few endpoints find an occupied cell nearby.
-  Pose2 refine(const EvidentialGrid& map, const Pose2& initial,
+  Pose2 refine(const EvidentialGridMap& map, const Pose2& initial,
                const std::vector<MatchPoint>& endpoints) const;
 
  private:
   // One ICP iteration; false when too few endpoints matched.
-  bool icpStep(const EvidentialGrid& map, const std::vector<MatchPoint>& endpoints,
+  bool icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
                Pose2* pose) const;
-  Pose2 hillClimb(const EvidentialGrid& map, const Pose2& start,
+  Pose2 hillClimb(const EvidentialGridMap& map, const Pose2& start,
                   const std::vector<MatchPoint>& endpoints) const;
 
   ScanMatcherConfig config_;

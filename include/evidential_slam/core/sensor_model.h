@@ -64,7 +64,7 @@ class ScanAccumulator {
   }
   // Applies every touched cell to `map` with the conjunctive rule; returns the external conflict
   // added (nats, summed over cells).
-  double applyTo(EvidentialGrid* map) const;
+  double applyTo(EvidentialGridMap* map) const;
   size_t touched() const { return touched_.size(); }
 
  private:
@@ -101,16 +101,16 @@ class BeamModel {
   ScanMass clearMass() const;
 
   // pl(z) of one beam over `cells` (ordered outwards from the sensor), algorithm.md §3.
-  double beamPlausibility(const EvidentialGrid& map, const RayCell* cells, size_t n,
+  double beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
                           double z) const;
   // Σ log pl over the hit beams of a traced scan (every `stride`-th beam).
-  double scanLogPlausibility(const EvidentialGrid& map, const TracedScan& traced, int stride) const;
+  double scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced, int stride) const;
 
   // Traces every usable ray of `scan` from the sensor pose `sensor_in_map`.
   void traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const;
   // Inverse model of a traced scan, fused within the scan by Dempster's rule, into `map` by the
   // conjunctive rule, each touched cell once. Returns the external conflict added (bits).
-  double integrateScan(const TracedScan& traced, EvidentialGrid* map,
+  double integrateScan(const TracedScan& traced, EvidentialGridMap* map,
                        ScanAccumulator* scratch) const;
 
   // Distance past the hit that a hit beam is traced (and its cells updated).

@@ -26,6 +26,13 @@ struct SlamStats {
   uint64_t resamplings = 0;
 };
 
+// The particle set at the latest scan, summarised: weighted mean and covariance of (x, y, θ)
+// (θ's mean is circular; its deviations are wrapped around the mean).
+struct PoseEstimate {
+  Pose2 mean;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+
 // What one call of processScan did.
 struct ScanUpdate {
   bool processed = false;  // passed the motion gate and updated the particles
@@ -48,16 +55,26 @@ class SlamEngine {
   // Drops all particles, maps and the trajectory (e.g. when time jumps backwards).
   void reset();
 
+  // Applies new parameters while running (dynamic_reconfigure). Everything but the start-up
+  // parameters (particles, resolution, seed, threads, which keep their constructed values) takes
+  // effect at the next scan; the particles and maps are kept. False (and `why`) when `config` is
+  // invalid; nothing changes then.
+  bool reconfigure(const SlamConfig& config, std::string* why);
+
   const SlamConfig& config() const { return config_; }
   const SlamStats& stats() const { return stats_; }
   const ParticleFilter& filter() const { return *filter_; }
 
   // Best particle (highest cumulative weight) and what it carries.
-  const EvidentialGrid& bestMap() const;
+  const EvidentialGridMap& bestMap() const;
   Pose2 bestPose() const;
   // The best particle's path, one pose per scan received (poses between processed scans are the
   // particle's pose at the last processed scan composed with the odometry since then).
   std::vector<StampedPose> bestTrajectory() const;
+  // Every particle's pose at the latest scan (its pose at the last processed scan composed with
+  // the odometry since), and its normalised weight (they sum to 1).
+  void particlePoses(std::vector<Pose2>* poses, std::vector<double>* weights) const;
+  PoseEstimate poseEstimate() const;
   // map -> odom correction for the latest scan (REP-105): map_T_odom = best ⊕ odometry⁻¹.
   Pose2 mapToOdom() const;
 
