@@ -30,7 +30,8 @@ ByteImage northUp(const LayerRaster& raster, F&& pixel_of_index) {
   return img;
 }
 
-bool savePng(const mrpt::img::CImage& img, const std::string& path, std::string* error) {
+// Saves in the format of the file's extension (PNG, PGM).
+bool saveImage(const mrpt::img::CImage& img, const std::string& path, std::string* error) {
   bool ok = false;
   try {
     ok = img.saveToFile(path);
@@ -55,6 +56,35 @@ LayerImageScale scaleFor(Layer layer, float min_value, float max_value) {
   return s;
 }
 
+// The scale of a layer over the whole raster (EC's depends on its maximum).
+LayerImageScale scaleOf(const LayerRaster& raster, Layer layer) {
+  float lo = std::numeric_limits<float>::infinity();
+  float hi = -std::numeric_limits<float>::infinity();
+  for (float x : raster.layer(layer)) {
+    if (!std::isfinite(x)) continue;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  if (lo > hi) lo = hi = 0.0f;
+  return scaleFor(layer, lo, hi);
+}
+
+// False (and `error`) when a layer's size does not match the raster's.
+bool checkSizes(const LayerRaster& raster, std::string* error) {
+  const size_t cells = static_cast<size_t>(raster.width) * raster.height;
+  for (int l = 0; l < kLayerCount; ++l) {
+    if (raster.values[l].size() != cells) {
+      if (error) {
+        *error = "layer '" + layerNames()[l] + "' has " + std::to_string(raster.values[l].size()) +
+                 " values for a " + std::to_string(raster.width) + "x" +
+                 std::to_string(raster.height) + " raster";
+      }
+      return false;
+    }
+  }
+  return true;
+}
+
 std::string fmt(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.9g", v);
@@ -73,38 +103,21 @@ uint8_t layerPixel(float value, const LayerImageScale& scale) {
 bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
                  LayerWriteResult* result, std::string* error) {
   *result = LayerWriteResult();
+  if (!checkSizes(raster, error)) return false;
   const size_t cells = static_cast<size_t>(raster.width) * raster.height;
-  for (int l = 0; l < kLayerCount; ++l) {
-    if (raster.values[l].size() != cells) {
-      if (error) {
-        *error = "layer '" + layerNames()[l] + "' has " + std::to_string(raster.values[l].size()) +
-                 " values for a " + std::to_string(raster.width) + "x" +
-                 std::to_string(raster.height) + " raster";
-      }
-      return false;
-    }
-  }
   const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
 
   for (int l = 0; l < kLayerCount; ++l) {
     const Layer layer = static_cast<Layer>(l);
     const std::vector<float>& v = raster.values[l];
-    float lo = std::numeric_limits<float>::infinity();
-    float hi = -std::numeric_limits<float>::infinity();
-    for (float x : v) {
-      if (!std::isfinite(x)) continue;
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-    if (lo > hi) lo = hi = 0.0f;
-    LayerImageScale scale = scaleFor(layer, lo, hi);
+    const LayerImageScale scale = scaleOf(raster, layer);
     result->scales[l] = scale;
     if (layer == Layer::kExternalConflict) result->external_conflict_scale = scale.black;
 
     mrpt::img::CImage img;
     img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
     const std::string png = base + layerNames()[l] + ".png";
-    if (!savePng(img, png, error)) return false;
+    if (!saveImage(img, png, error)) return false;
     result->files.push_back(png);
 
     const std::string npy = base + layerNames()[l] + ".npy";
@@ -128,7 +141,7 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
     img.loadFromMemoryBuffer(raster.width, raster.height, raster.width, red.data(), green.data(),
                              blue.data());
     const std::string png = base + "composite.png";
-    if (!savePng(img, png, error)) return false;
+    if (!saveImage(img, png, error)) return false;
     result->files.push_back(png);
   }
 
@@ -172,6 +185,44 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
     return false;
   }
   result->files.push_back(yaml_path);
+  return true;
+}
+
+bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
+                          const LayerWriterConfig& config, std::vector<std::string>* files,
+                          std::string* error) {
+  if (!checkSizes(raster, error)) return false;
+  const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  for (int l = 0; l < kLayerCount; ++l) {
+    const Layer layer = static_cast<Layer>(l);
+    const std::vector<float>& v = raster.values[l];
+    const LayerImageScale scale = scaleOf(raster, layer);
+    mrpt::img::CImage img;
+    img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
+    const std::string name = layerNames()[l];
+    const std::string pgm = base + name + ".pgm";
+    if (!saveImage(img, pgm, error)) return false;
+    files->push_back(pgm);
+
+    const bool pignistic = layer == Layer::kPignistic;
+    const std::string yaml_path = base + name + ".yaml";
+    std::ofstream yaml(yaml_path);
+    yaml << "# evidential_slam layer '" << name << "' for map_server: dark = high value; pixel "
+         << "black = " << fmt(scale.black) << ", white = " << fmt(scale.white) << "\n"
+         << "image: " << name << ".pgm\n"
+         << "resolution: " << fmt(raster.resolution) << "\n"
+         << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
+         << "negate: 0\n"
+         << "mode: " << (pignistic ? "trinary" : "scale") << "\n"
+         << "occupied_thresh: " << fmt(pignistic ? config.occupied_thresh : 1.0) << "\n"
+         << "free_thresh: " << fmt(pignistic ? config.free_thresh : 0.0) << "\n";
+    yaml.close();
+    if (!yaml) {
+      if (error) *error = "cannot write '" + yaml_path + "'";
+      return false;
+    }
+    files->push_back(yaml_path);
+  }
   return true;
 }
 

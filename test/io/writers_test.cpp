@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -308,6 +309,49 @@ TEST(LayerWriter, RejectsInconsistentRasterAndBadDirectory) {
   EXPECT_FALSE(
       writeLayers(raster, test::scratchDir().string(), LayerWriterConfig(), &result, &error));
   EXPECT_NE(error.find("conflict"), std::string::npos) << error;
+}
+
+// map_server pairs: a binary PGM (P5) per layer, north-up, dark = high, and its YAML: trinary
+// mode with the configured thresholds for the pignistic map, linear scale mode for the others.
+TEST(LayerWriter, WritesMapServerPgmAndYamlPerLayer) {
+  const auto dir = test::scratchDir();
+  const LayerRaster raster = syntheticRaster();
+  std::vector<std::string> files;
+  std::string error;
+  ASSERT_TRUE(writeMapServerLayers(raster, dir.string(), LayerWriterConfig(), &files, &error))
+      << error;
+  EXPECT_EQ(files.size(), 2u * kLayerCount);
+  for (const std::string& name : layerNames()) {
+    const std::string pgm = test::readText(dir / (name + ".pgm"));
+    ASSERT_GE(pgm.size(), 12u) << name;
+    std::istringstream header(pgm);
+    std::string magic;
+    int width = 0, height = 0, maxval = 0;
+    header >> magic >> width >> height >> maxval;
+    EXPECT_EQ(magic, "P5") << name;
+    EXPECT_EQ(width, 4);
+    EXPECT_EQ(height, 3);
+    EXPECT_EQ(maxval, 255);
+    const std::string pixels = pgm.substr(pgm.size() - 12);  // after one whitespace byte
+    if (name == "occupied") {
+      EXPECT_EQ(static_cast<uint8_t>(pixels[2 * 4 + 0]), 0);  // bottom-left: occupied
+      EXPECT_EQ(static_cast<uint8_t>(pixels[0]), 255);        // top-left: nothing
+    }
+    const std::string yaml = test::readText(dir / (name + ".yaml"));
+    const bool pignistic = name == "pignistic";
+    for (const std::string key :
+         {"image: " + name + ".pgm\n", std::string("resolution: 0.05\n"),
+          std::string("origin: [-1.25, 2.5, 0.0]\n"), std::string("negate: 0\n"),
+          std::string(pignistic ? "mode: trinary\n" : "mode: scale\n"),
+          std::string(pignistic ? "occupied_thresh: 0.65\n" : "occupied_thresh: 1\n"),
+          std::string(pignistic ? "free_thresh: 0.196\n" : "free_thresh: 0\n")}) {
+      EXPECT_NE(yaml.find(key), std::string::npos) << name << ": " << key;
+    }
+  }
+  files.clear();
+  EXPECT_FALSE(
+      writeMapServerLayers(raster, "/nonexistent/dir", LayerWriterConfig(), &files, &error));
+  EXPECT_NE(error.find("/nonexistent/dir"), std::string::npos) << error;
 }
 
 // --- summary.json -------------------------------------------------------------------------------

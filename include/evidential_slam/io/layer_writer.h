@@ -46,5 +46,13 @@ uint8_t layerPixel(float value, const LayerImageScale& scale);
 bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
                  LayerWriteResult* result, std::string* error);
 
+// Writes every layer as a map_server image + metadata pair: <name>.pgm (north-up, dark = high
+// value, EC scaled by its maximum as above) and <name>.yaml. pignistic.yaml loads in map_server's
+// trinary mode with `config`'s thresholds (an ordinary occupancy map); the other layers load in
+// scale mode with thresholds 1 and 0, so map_server turns a layer value v into about 99 v.
+bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
+                          const LayerWriterConfig& config, std::vector<std::string>* files,
+                          std::string* error);
+
 }  // namespace io
 }  // namespace evidential_slam
