@@ -1,0 +1,70 @@
+// The SLAM nodelet: LaserScan (through a tf2 MessageFilter) + odometry from tf in; map->odom tf,
+// ~pose, ~particles, ~path and the map topics (MapPublisher) out. Thin by design: conversions
+// live in conversions.h, parameters in params.h, the filter runs on SlamWorker's thread.
+#pragma once
+
+#include <memory>
+#include <mutex>
+
+#include <dynamic_reconfigure/server.h>
+#include <message_filters/subscriber.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <nav_msgs/GetMap.h>
+#include "evidential_slam/EvidentialSlamConfig.h"
+#include "evidential_slam/SaveMap.h"
+#include "evidential_slam/ros/map_publisher.h"
+#include "evidential_slam/ros/params.h"
+#include "evidential_slam/ros/slam_worker.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+
+class SlamNodelet : public nodelet::Nodelet {
+ public:
+  SlamNodelet();
+  ~SlamNodelet() override;
+
+ private:
+  void onInit() override;
+  void onScan(const sensor_msgs::LaserScan::ConstPtr& msg);
+  void onScanWithoutTransform(const sensor_msgs::LaserScan::ConstPtr& msg,
+                              tf2_ros::filter_failure_reasons::FilterFailureReason reason);
+  void onScanHandled(const SlamEngine& engine, const ScanUpdate& update, double stamp);
+  void onReconfigure(EvidentialSlamConfig& config, uint32_t level);
+  void publishTransform(const ros::TimerEvent&);
+  bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
+  bool getMap(nav_msgs::GetMap::Request& request, nav_msgs::GetMap::Response& response);
+
+  ros::NodeHandle nh_, private_nh_;
+  std::mutex params_mutex_;
+  NodeParams params_;
+
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  std::unique_ptr<message_filters::Subscriber<sensor_msgs::LaserScan>> scan_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
+
+  ros::Publisher pose_pub_, particles_pub_, path_pub_;
+  ros::ServiceServer save_map_srv_, get_map_srv_;
+  ros::Timer map_timer_, tf_timer_;
+  std::unique_ptr<dynamic_reconfigure::Server<EvidentialSlamConfig>> reconfigure_server_;
+  boost::recursive_mutex reconfigure_mutex_;
+
+  std::unique_ptr<SlamWorker> worker_;
+  std::unique_ptr<MapPublisher> map_publisher_;
+
+  std::mutex transform_mutex_;
+  bool have_transform_ = false;
+  Pose2 map_to_odom_;
+};
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam

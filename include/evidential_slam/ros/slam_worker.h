@@ -1,0 +1,90 @@
+// Runs the SLAM engine on its own thread, so ROS callbacks only convert and enqueue. Scans are
+// processed strictly in arrival order; a scan older than the previous one by more than the time
+// jump tolerance (a looping bag, a restarted simulator) restarts the SLAM, a smaller step back is
+// dropped. No ROS in here: the nodelet wires the callbacks to publishers.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "evidential_slam/core/slam_engine.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+
+// The latest map, shared copy-on-write with the engine's best particle (copying it is cheap;
+// the engine clones a tile before writing to one the snapshot still holds).
+struct MapSnapshot {
+  std::shared_ptr<const EvidentialGridMap> grid;  // null before the first processed scan
+  double stamp = 0.0;                             // of the scan that last changed it
+  uint64_t version = 0;                           // changes whenever the map does (0: no map)
+};
+
+class SlamWorker {
+ public:
+  struct Callbacks {
+    // After every scan the engine handled (processed or gated), on the worker thread. The engine
+    // may be read inside; it is not changed while the callback runs.
+    std::function<void(const SlamEngine& engine, const ScanUpdate& update, double stamp)> on_scan;
+    // Something the user should know, one line: a restart after a time jump (`restarted`), or a
+    // scan dropped or refused (frequent; worth throttling).
+    std::function<void(const std::string& message, bool restarted)> on_warning;
+  };
+
+  SlamWorker(const SlamConfig& config, double time_jump_tolerance, size_t max_queue,
+             Callbacks callbacks);
+  ~SlamWorker();  // finishes the scan in progress, drops the queue, joins the thread
+  SlamWorker(const SlamWorker&) = delete;
+  SlamWorker& operator=(const SlamWorker&) = delete;
+
+  // Queues a scan with the odometry pose at its stamp. False (nothing queued) when the queue is
+  // full: the filter is slower than the sensor.
+  bool push(const Pose2& odometry, const LaserScan& scan);
+
+  // New run-time parameters, applied before the next scan. False (and `why`) when invalid.
+  bool reconfigure(const SlamConfig& config, std::string* why);
+
+  // Runs `task` on the worker thread between two scans and waits for it: the way to read the
+  // engine (trajectory, stats) from another thread.
+  void runOnWorker(const std::function<void(const SlamEngine& engine)>& task);
+
+  MapSnapshot latestMap() const;
+  // Blocks until every queued scan has been handled (tests, shutdown of a player run).
+  void waitIdle();
+  size_t queued() const;
+  uint64_t resets() const;
+
+ private:
+  void run();
+
+  SlamEngine engine_;
+  const double time_jump_tolerance_;
+  const size_t max_queue_;
+  Callbacks callbacks_;
+
+  struct Item {
+    Pose2 odometry;
+    LaserScan scan;
+  };
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable idle_;
+  std::deque<Item> queue_;
+  std::deque<std::function<void()>> tasks_;
+  std::unique_ptr<SlamConfig> pending_config_;
+  bool busy_ = false;
+  bool stop_ = false;
+  MapSnapshot map_;
+  uint64_t resets_ = 0;
+  bool have_last_stamp_ = false;
+  double last_stamp_ = 0.0;
+  std::thread thread_;  // last: starts after everything above exists
+};
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam

@@ -1,0 +1,186 @@
+#include "evidential_slam/ros/conversions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tf2/LinearMath/Matrix3x3.h>
+#include <tf2/LinearMath/Quaternion.h>
+#include <tf2/LinearMath/Vector3.h>
+
+#include "evidential_slam/core/measures.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+namespace {
+
+tf2::Quaternion yawQuaternion(double yaw) {
+  tf2::Quaternion q;
+  q.setRPY(0.0, 0.0, yaw);
+  return q;
+}
+
+}  // namespace
+
+Pose2 pose2FromTransform(const geometry_msgs::Transform& t, bool* upside_down) {
+  const tf2::Quaternion q(t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w);
+  const tf2::Matrix3x3 r(q.normalized());
+  const tf2::Vector3 x_axis = r.getColumn(0);
+  const tf2::Vector3 z_axis = r.getColumn(2);
+  if (upside_down != nullptr) *upside_down = z_axis.z() < 0.0;
+  return Pose2(t.translation.x, t.translation.y, std::atan2(x_axis.y(), x_axis.x()));
+}
+
+geometry_msgs::Transform toTransformMsg(const Pose2& pose) {
+  geometry_msgs::Transform t;
+  t.translation.x = pose.x;
+  t.translation.y = pose.y;
+  t.translation.z = 0.0;
+  const tf2::Quaternion q = yawQuaternion(pose.theta);
+  t.rotation.x = q.x();
+  t.rotation.y = q.y();
+  t.rotation.z = q.z();
+  t.rotation.w = q.w();
+  return t;
+}
+
+geometry_msgs::Pose toPoseMsg(const Pose2& pose) {
+  const geometry_msgs::Transform t = toTransformMsg(pose);
+  geometry_msgs::Pose p;
+  p.position.x = t.translation.x;
+  p.position.y = t.translation.y;
+  p.position.z = t.translation.z;
+  p.orientation = t.rotation;
+  return p;
+}
+
+Pose2 pose2FromPoseMsg(const geometry_msgs::Pose& pose) {
+  geometry_msgs::Transform t;
+  t.translation.x = pose.position.x;
+  t.translation.y = pose.position.y;
+  t.translation.z = pose.position.z;
+  t.rotation = pose.orientation;
+  return pose2FromTransform(t);
+}
+
+bool scanFromRos(const sensor_msgs::LaserScan& msg, const Pose2& laser_in_base, bool upside_down,
+                 float range_sigma, LaserScan* out, std::string* why) {
+  auto fail = [why](const std::string& what) {
+    if (why != nullptr) *why = what;
+    return false;
+  };
+  if (msg.ranges.empty()) return fail("scan has no ranges");
+  if (!std::isfinite(msg.angle_min) || !std::isfinite(msg.angle_increment) ||
+      msg.angle_increment == 0.0f) {
+    return fail("scan has a zero or non-finite angle_increment");
+  }
+  if (!std::isfinite(msg.range_max) || !(msg.range_max > 0.0f)) {
+    return fail("scan has a non-positive or non-finite range_max");
+  }
+  LaserScan& s = *out;
+  s = LaserScan();
+  s.stamp = msg.header.stamp.toSec();
+  s.sensor_pose = laser_in_base;
+  s.max_range = msg.range_max;
+  s.range_sigma = range_sigma;
+  const size_t n = msg.ranges.size();
+  s.ranges.resize(n);
+  s.bearings.resize(n);
+  s.valid.assign(n, 1);
+  const float min_range = std::isfinite(msg.range_min) ? std::max(0.0f, msg.range_min) : 0.0f;
+  for (size_t i = 0; i < n; ++i) {
+    const double bearing = msg.angle_min + static_cast<double>(i) * msg.angle_increment;
+    s.bearings[i] = static_cast<float>(upside_down ? -bearing : bearing);
+    const float z = msg.ranges[i];
+    if (std::isnan(z) || z == -std::numeric_limits<float>::infinity() || z < min_range) {
+      s.ranges[i] = std::numeric_limits<float>::quiet_NaN();  // bad data: skipped by the core
+    } else if (z > msg.range_max) {  // +inf or beyond range: no return (REP-117)
+      s.ranges[i] = msg.range_max;
+      s.valid[i] = 0;
+    } else {
+      s.ranges[i] = z;
+    }
+  }
+  return true;
+}
+
+bool scanToRos(const LaserScan& scan, const std::string& frame_id, sensor_msgs::LaserScan* out,
+               std::string* why, double tolerance) {
+  auto fail = [why](const std::string& what) {
+    if (why != nullptr) *why = what;
+    return false;
+  };
+  std::string inconsistency;
+  if (!scan.isConsistent(&inconsistency)) return fail(inconsistency);
+  const size_t n = scan.ranges.size();
+  if (n < 2) return fail("a LaserScan needs at least two rays");
+  const double increment =
+      (static_cast<double>(scan.bearings[n - 1]) - scan.bearings[0]) / static_cast<double>(n - 1);
+  for (size_t i = 0; i < n; ++i) {
+    const double expected = scan.bearings[0] + increment * static_cast<double>(i);
+    if (std::abs(scan.bearings[i] - expected) > tolerance) {
+      return fail("bearings are not evenly spaced (ray " + std::to_string(i) + ")");
+    }
+  }
+  sensor_msgs::LaserScan& m = *out;
+  m = sensor_msgs::LaserScan();
+  m.header.stamp.fromSec(scan.stamp);
+  m.header.frame_id = frame_id;
+  m.angle_min = scan.bearings[0];
+  m.angle_max = scan.bearings[n - 1];
+  m.angle_increment = static_cast<float>(increment);
+  m.range_min = 0.0f;
+  m.range_max = scan.max_range;
+  m.ranges.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const bool no_return = !scan.valid.empty() && scan.valid[i] == 0;
+    m.ranges[i] = no_return ? std::numeric_limits<float>::infinity() : scan.ranges[i];
+  }
+  return true;
+}
+
+nav_msgs::MapMetaData mapMetaData(const LayerRaster& raster, const ros::Time& load_time) {
+  nav_msgs::MapMetaData info;
+  info.map_load_time = load_time;
+  info.resolution = static_cast<float>(raster.resolution);
+  info.width = static_cast<uint32_t>(raster.width);
+  info.height = static_cast<uint32_t>(raster.height);
+  info.origin = toPoseMsg(Pose2(raster.origin_x, raster.origin_y, 0.0));
+  return info;
+}
+
+void toEvidentialGridMsg(const LayerRaster& raster, const std_msgs::Header& header,
+                         EvidentialGrid* out) {
+  out->header = header;
+  out->info = mapMetaData(raster, header.stamp);
+  out->layers.assign(layerNames().begin(), layerNames().end());
+  out->data.resize(kLayerCount);
+  for (int l = 0; l < kLayerCount; ++l) out->data[l].data = raster.values[l];
+  out->observed = raster.observed;
+}
+
+OccupancyRendering layerRendering(Layer layer, double external_conflict_display_max) {
+  OccupancyRendering r;
+  if (layer == Layer::kExternalConflict) r.full_scale = external_conflict_display_max;
+  return r;
+}
+
+void toOccupancyGrid(const LayerRaster& raster, Layer layer, const OccupancyRendering& rendering,
+                     const std_msgs::Header& header, nav_msgs::OccupancyGrid* out) {
+  out->header = header;
+  out->info = mapMetaData(raster, header.stamp);
+  const std::vector<float>& v = raster.layer(layer);
+  out->data.resize(v.size());
+  const double scale = 100.0 / rendering.full_scale;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (rendering.unknown_unobserved && (i >= raster.observed.size() || !raster.observed[i])) {
+      out->data[i] = -1;
+      continue;
+    }
+    const double value = std::isfinite(v[i]) ? v[i] * scale : (v[i] > 0 ? 100.0 : 0.0);
+    out->data[i] = static_cast<int8_t>(std::lround(std::clamp(value, 0.0, 100.0)));
+  }
+}
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam

@@ -1,0 +1,333 @@
+#include "evidential_slam/ros/slam_nodelet.h"
+
+#include <filesystem>
+#include <system_error>
+
+#include <geometry_msgs/PoseArray.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Path.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include "evidential_slam/core/layers.h"
+#include "evidential_slam/io/layer_writer.h"
+#include "evidential_slam/io/trajectory_io.h"
+#include "evidential_slam/ros/conversions.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+namespace {
+
+constexpr uint32_t kTfFilterQueue = 50;  // scans waiting for their odometry tf, at most
+
+const char* failureName(tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
+  switch (reason) {
+    case tf2_ros::filter_failure_reasons::OutTheBack:
+      return "the scan is older than the tf buffer";
+    case tf2_ros::filter_failure_reasons::EmptyFrameID:
+      return "the scan has no frame_id";
+    default:
+      return "no transform arrived while the scan waited";
+  }
+}
+
+}  // namespace
+
+SlamNodelet::SlamNodelet() = default;
+
+SlamNodelet::~SlamNodelet() {
+  // Stop the inputs first, then the threads that publish.
+  scan_filter_.reset();
+  scan_sub_.reset();
+  map_timer_.stop();
+  tf_timer_.stop();
+  worker_.reset();
+  map_publisher_.reset();
+}
+
+void SlamNodelet::onInit() {
+  nh_ = getNodeHandle();
+  private_nh_ = getPrivateNodeHandle();
+  params_ = readParams(private_nh_);
+  std::string why;
+  if (!params_.isValid(&why)) {
+    NODELET_FATAL("evidential_slam: invalid parameters: %s; the SLAM does not start", why.c_str());
+    return;
+  }
+
+  SlamWorker::Callbacks callbacks;
+  callbacks.on_scan = [this](const SlamEngine& engine, const ScanUpdate& update, double stamp) {
+    onScanHandled(engine, update, stamp);
+  };
+  callbacks.on_warning = [this](const std::string& message, bool restarted) {
+    if (restarted) {
+      std::lock_guard<std::mutex> lock(transform_mutex_);
+      have_transform_ = false;
+      NODELET_WARN("%s", message.c_str());
+    } else {
+      NODELET_WARN_THROTTLE(5.0, "%s", message.c_str());
+    }
+  };
+  try {
+    worker_ = std::make_unique<SlamWorker>(params_.slam, params_.time_jump_tolerance,
+                                           static_cast<size_t>(params_.scan_queue_size), callbacks);
+  } catch (const std::exception& e) {
+    NODELET_FATAL("evidential_slam: %s", e.what());
+    return;
+  }
+  map_publisher_ = std::make_unique<MapPublisher>(nh_, private_nh_, params_.map_frame,
+                                                  [this] { return worker_->latestMap(); });
+  map_publisher_->setExternalConflictDisplayMax(params_.external_conflict_display_max);
+
+  pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10);
+  particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
+  path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
+
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh_);
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+
+  // Services on the multi-threaded handles: a save waits for the filter, scans keep flowing.
+  ros::NodeHandle mt_nh = getMTNodeHandle();
+  ros::NodeHandle mt_private_nh = getMTPrivateNodeHandle();
+  save_map_srv_ = mt_private_nh.advertiseService("save_map", &SlamNodelet::saveMap, this);
+  get_map_srv_ = mt_nh.advertiseService("dynamic_map", &SlamNodelet::getMap, this);
+
+  reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<EvidentialSlamConfig>>(
+      reconfigure_mutex_, private_nh_);
+  reconfigure_server_->setCallback(
+      [this](EvidentialSlamConfig& config, uint32_t level) { onReconfigure(config, level); });
+
+  map_timer_ = nh_.createTimer(ros::Duration(params_.map_update_interval),
+                               [this](const ros::TimerEvent&) { map_publisher_->requestUpdate(); });
+  if (params_.transform_publish_period > 0.0) {
+    tf_timer_ = nh_.createTimer(ros::Duration(params_.transform_publish_period),
+                                &SlamNodelet::publishTransform, this);
+  }
+
+  scan_sub_ =
+      std::make_unique<message_filters::Subscriber<sensor_msgs::LaserScan>>(nh_, "scan", 100);
+  scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(
+      *scan_sub_, *tf_buffer_, params_.odom_frame, kTfFilterQueue, nh_);
+  scan_filter_->registerCallback(&SlamNodelet::onScan, this);
+  scan_filter_->registerFailureCallback(
+      [this](const sensor_msgs::LaserScan::ConstPtr& msg,
+             tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
+        onScanWithoutTransform(msg, reason);
+      });
+
+  NODELET_INFO(
+      "evidential_slam: %d particles, %.3f m cells; frames %s -> %s -> %s; listening on %s",
+      params_.slam.particles, params_.slam.resolution, params_.map_frame.c_str(),
+      params_.odom_frame.c_str(), params_.base_frame.c_str(), nh_.resolveName("scan").c_str());
+}
+
+void SlamNodelet::onScanWithoutTransform(
+    const sensor_msgs::LaserScan::ConstPtr& msg,
+    tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
+  std::string odom_frame;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    odom_frame = params_.odom_frame;
+  }
+  std::string tf_error;
+  tf_buffer_->canTransform(odom_frame, msg->header.frame_id, msg->header.stamp, &tf_error);
+  NODELET_WARN_THROTTLE(5.0, "scan dropped: no transform from '%s' to '%s' at t = %.3f (%s)%s%s",
+                        msg->header.frame_id.c_str(), odom_frame.c_str(), msg->header.stamp.toSec(),
+                        failureName(reason), tf_error.empty() ? "" : ": ", tf_error.c_str());
+}
+
+void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+  NodeParams params;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    params = params_;
+  }
+  geometry_msgs::TransformStamped odom_base, base_laser;
+  try {
+    odom_base =
+        tf_buffer_->lookupTransform(params.odom_frame, params.base_frame, msg->header.stamp);
+    base_laser =
+        tf_buffer_->lookupTransform(params.base_frame, msg->header.frame_id, msg->header.stamp);
+  } catch (const tf2::TransformException& e) {
+    NODELET_WARN_THROTTLE(5.0, "scan dropped: transform '%s' -> '%s' -> '%s' unavailable: %s",
+                          params.odom_frame.c_str(), params.base_frame.c_str(),
+                          msg->header.frame_id.c_str(), e.what());
+    return;
+  }
+  bool upside_down = false;
+  const Pose2 laser_in_base = pose2FromTransform(base_laser.transform, &upside_down);
+  LaserScan scan;
+  std::string why;
+  if (!scanFromRos(*msg, laser_in_base, upside_down, static_cast<float>(params.laser_range_sigma),
+                   &scan, &why)) {
+    NODELET_WARN_THROTTLE(5.0, "scan at t = %.3f dropped: %s", msg->header.stamp.toSec(),
+                          why.c_str());
+    return;
+  }
+  if (!worker_->push(pose2FromTransform(odom_base.transform), scan)) {
+    NODELET_WARN_THROTTLE(
+        5.0,
+        "scan dropped: %zu scans are waiting for the filter, which is slower than "
+        "the laser (fewer particles or a coarser resolution would help)",
+        worker_->queued());
+  }
+}
+
+void SlamNodelet::onScanHandled(const SlamEngine& engine, const ScanUpdate& update, double stamp) {
+  std::string map_frame;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    map_frame = params_.map_frame;
+  }
+  {
+    std::lock_guard<std::mutex> lock(transform_mutex_);
+    map_to_odom_ = engine.mapToOdom();
+    have_transform_ = true;
+  }
+  ros::Time ros_stamp;
+  ros_stamp.fromSec(stamp);
+
+  const PoseEstimate estimate = engine.poseEstimate();
+  geometry_msgs::PoseWithCovarianceStamped pose;
+  pose.header.stamp = ros_stamp;
+  pose.header.frame_id = map_frame;
+  pose.pose.pose = toPoseMsg(estimate.mean);
+  // Row-major 6x6 over (x, y, z, roll, pitch, yaw); the planar entries are the particles'.
+  const int index[3] = {0, 1, 5};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      pose.pose.covariance[index[r] * 6 + index[c]] = estimate.covariance(r, c);
+  }
+  pose_pub_.publish(pose);
+
+  if (particles_pub_.getNumSubscribers() > 0) {
+    std::vector<Pose2> poses;
+    std::vector<double> weights;
+    engine.particlePoses(&poses, &weights);
+    geometry_msgs::PoseArray array;
+    array.header = pose.header;
+    for (const Pose2& p : poses) array.poses.push_back(toPoseMsg(p));
+    particles_pub_.publish(array);
+  }
+  if (update.processed && path_pub_.getNumSubscribers() > 0) {
+    nav_msgs::Path path;
+    path.header = pose.header;
+    for (const StampedPose& p : engine.bestTrajectory()) {
+      geometry_msgs::PoseStamped ps;
+      ps.header.stamp.fromSec(p.stamp);
+      ps.header.frame_id = map_frame;
+      ps.pose = toPoseMsg(p.pose);
+      path.poses.push_back(ps);
+    }
+    path_pub_.publish(path);
+  }
+}
+
+void SlamNodelet::publishTransform(const ros::TimerEvent&) {
+  Pose2 map_to_odom;
+  {
+    std::lock_guard<std::mutex> lock(transform_mutex_);
+    if (!have_transform_) return;
+    map_to_odom = map_to_odom_;
+  }
+  geometry_msgs::TransformStamped t;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    t.header.frame_id = params_.map_frame;
+    t.child_frame_id = params_.odom_frame;
+    // Post-dated like gmapping's, so consumers can transform data up to the next broadcast.
+    t.header.stamp = ros::Time::now() + ros::Duration(params_.transform_tolerance);
+  }
+  t.transform = toTransformMsg(map_to_odom);
+  tf_broadcaster_->sendTransform(t);
+}
+
+void SlamNodelet::onReconfigure(EvidentialSlamConfig& config, uint32_t) {
+  NodeParams next;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    next = params_;
+  }
+  applyReconfigure(config, &next);
+  std::string why;
+  if (!next.isValid(&why) || !worker_->reconfigure(next.slam, &why)) {
+    NODELET_ERROR("dynamic_reconfigure: parameters refused (%s); keeping the previous ones",
+                  why.c_str());
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    config = toReconfigure(params_);
+    return;
+  }
+  const bool interval_changed = next.map_update_interval != params_.map_update_interval;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    params_ = next;
+  }
+  map_publisher_->setExternalConflictDisplayMax(next.external_conflict_display_max);
+  if (interval_changed && map_timer_.isValid()) {
+    map_timer_.setPeriod(ros::Duration(next.map_update_interval));
+  }
+}
+
+bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response) {
+  response.success = false;
+  auto fail = [&response](const std::string& message) {
+    response.message = message;
+    ROS_ERROR("save_map: %s", message.c_str());
+    return true;  // the call itself worked; `success` says the save did not
+  };
+  if (request.directory.empty()) return fail("no directory given");
+  std::error_code ec;
+  std::filesystem::create_directories(request.directory, ec);
+  if (ec) return fail("cannot create '" + request.directory + "': " + ec.message());
+
+  EvidentialGridMap grid;
+  std::vector<StampedPose> trajectory;
+  bool have_map = false;
+  worker_->runOnWorker([&](const SlamEngine& engine) {
+    have_map = engine.stats().scans_processed > 0;
+    grid = engine.bestMap();
+    trajectory = engine.bestTrajectory();
+  });
+  if (!have_map) return fail("no map yet: no scan has been processed");
+
+  const LayerRaster raster = extractLayers(grid);
+  std::string error;
+  io::LayerWriteResult written;
+  const io::LayerWriterConfig writer_config;
+  if (!io::writeMapServerLayers(raster, request.directory, writer_config, &response.files,
+                                &error) ||
+      !io::writeLayers(raster, request.directory, writer_config, &written, &error)) {
+    return fail(error);
+  }
+  response.files.insert(response.files.end(), written.files.begin(), written.files.end());
+  const std::string tum = (std::filesystem::path(request.directory) / "trajectory.tum").string();
+  if (!io::writeTumTrajectory(tum, trajectory, &error)) return fail(error);
+  response.files.push_back(tum);
+  response.success = true;
+  response.message =
+      "saved " + std::to_string(response.files.size()) + " files to " + request.directory;
+  NODELET_INFO("save_map: %s", response.message.c_str());
+  return true;
+}
+
+bool SlamNodelet::getMap(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& response) {
+  const MapSnapshot snapshot = worker_->latestMap();
+  if (!snapshot.grid) return false;
+  std_msgs::Header header;
+  header.stamp.fromSec(snapshot.stamp);
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    header.frame_id = params_.map_frame;
+  }
+  OccupancyRendering rendering;
+  rendering.unknown_unobserved = true;
+  toOccupancyGrid(extractLayers(*snapshot.grid), Layer::kPignistic, rendering, header,
+                  &response.map);
+  return true;
+}
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam
+
+PLUGINLIB_EXPORT_CLASS(evidential_slam::ros_adapter::SlamNodelet, nodelet::Nodelet)
