@@ -32,6 +32,9 @@ struct PlayerParams {
   std::string laser_label;   // optional: only this sensor
   double rate = 1.0;         // playback speed factor (sim time / wall time)
   double start_delay = 1.0;  // wall s before the first scan (subscribers connect)
+  // Wall s to wait, after start_delay, for a subscriber on `scan` (a SLAM still loading must not
+  // miss the first scans); 0 = do not wait.
+  double wait_for_subscriber = 10.0;
   double clock_step = 0.01;  // sim s between /clock messages
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
@@ -49,6 +52,7 @@ bool readPlayerParams(const ros::NodeHandle& nh, PlayerParams* p, std::string* w
   nh.param("rate", p->rate, p->rate);
   nh.param("start_delay", p->start_delay, p->start_delay);
   nh.param("clock_step", p->clock_step, p->clock_step);
+  nh.param("wait_for_subscriber", p->wait_for_subscriber, p->wait_for_subscriber);
   nh.param("odom_frame", p->odom_frame, p->odom_frame);
   nh.param("base_frame", p->base_frame, p->base_frame);
   nh.param("laser_frame", p->laser_frame, p->laser_frame);
@@ -107,6 +111,11 @@ class RawlogPlayer {
       return 1;
     }
     ros::WallDuration(params_.start_delay).sleep();
+    const ros::WallTime give_up =
+        ros::WallTime::now() + ros::WallDuration(params_.wait_for_subscriber);
+    while (ros::ok() && scan_pub_.getNumSubscribers() == 0 && ros::WallTime::now() < give_up) {
+      ros::WallDuration(0.05).sleep();
+    }
 
     es::io::RawlogScan item;
     uint64_t published = 0;

@@ -41,6 +41,7 @@ SlamNodelet::~SlamNodelet() {
   scan_sub_.reset();
   map_timer_.stop();
   tf_timer_.stop();
+  tf_watchdog_.stop();
   worker_.reset();
   map_publisher_.reset();
 }
@@ -110,6 +111,8 @@ void SlamNodelet::onInit() {
   scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(
       *scan_sub_, *tf_buffer_, params_.odom_frame, kTfFilterQueue, nh_);
   scan_filter_->registerCallback(&SlamNodelet::onScan, this);
+  scan_sub_->registerCallback(&SlamNodelet::onRawScan, this);
+  tf_watchdog_ = nh_.createWallTimer(ros::WallDuration(1.0), &SlamNodelet::checkWaitingScans, this);
   scan_filter_->registerFailureCallback(
       [this](const sensor_msgs::LaserScan::ConstPtr& msg,
              tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
@@ -137,7 +140,44 @@ void SlamNodelet::onScanWithoutTransform(
                         failureName(reason), tf_error.empty() ? "" : ": ", tf_error.c_str());
 }
 
+void SlamNodelet::onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(watchdog_mutex_);
+  last_raw_scan_ = msg;
+  last_raw_arrival_ = ros::WallTime::now();
+}
+
+void SlamNodelet::checkWaitingScans(const ros::WallTimerEvent&) {
+  sensor_msgs::LaserScan::ConstPtr waiting;
+  {
+    std::lock_guard<std::mutex> lock(watchdog_mutex_);
+    const ros::WallTime now = ros::WallTime::now();
+    // Scans came in during the last two seconds, and none passed in the last second.
+    if (!last_raw_scan_ || (now - last_raw_arrival_).toSec() > 2.0 ||
+        (now - last_passed_arrival_).toSec() < 1.0) {
+      return;
+    }
+    waiting = last_raw_scan_;
+  }
+  std::string odom_frame;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    odom_frame = params_.odom_frame;
+  }
+  std::string tf_error;
+  if (tf_buffer_->canTransform(odom_frame, waiting->header.frame_id, waiting->header.stamp,
+                               &tf_error)) {
+    return;
+  }
+  NODELET_WARN_THROTTLE(5.0, "scans are waiting: no transform from '%s' to '%s' at t = %.3f: %s",
+                        waiting->header.frame_id.c_str(), odom_frame.c_str(),
+                        waiting->header.stamp.toSec(), tf_error.c_str());
+}
+
 void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+  {
+    std::lock_guard<std::mutex> lock(watchdog_mutex_);
+    last_passed_arrival_ = ros::WallTime::now();
+  }
   NodeParams params;
   {
     std::lock_guard<std::mutex> lock(params_mutex_);

@@ -36,6 +36,8 @@ class SlamNodelet : public nodelet::Nodelet {
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg);
   void onScanWithoutTransform(const sensor_msgs::LaserScan::ConstPtr& msg,
                               tf2_ros::filter_failure_reasons::FilterFailureReason reason);
+  void onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg);
+  void checkWaitingScans(const ros::WallTimerEvent&);
   void onScanHandled(const SlamEngine& engine, const ScanUpdate& update, double stamp);
   void onReconfigure(EvidentialSlamConfig& config, uint32_t level);
   void publishTransform(const ros::TimerEvent&);
@@ -55,6 +57,12 @@ class SlamNodelet : public nodelet::Nodelet {
   ros::Publisher pose_pub_, particles_pub_, path_pub_;
   ros::ServiceServer save_map_srv_, get_map_srv_;
   ros::Timer map_timer_, tf_timer_;
+  // The filter holds a scan until its tf arrives and says nothing meanwhile: this watchdog warns,
+  // naming the missing transform, when scans arrive but none has passed for a while.
+  ros::WallTimer tf_watchdog_;
+  std::mutex watchdog_mutex_;
+  sensor_msgs::LaserScan::ConstPtr last_raw_scan_;
+  ros::WallTime last_raw_arrival_, last_passed_arrival_;
   std::unique_ptr<dynamic_reconfigure::Server<EvidentialSlamConfig>> reconfigure_server_;
   boost::recursive_mutex reconfigure_mutex_;
 

@@ -1,0 +1,217 @@
+// rostest for the SLAM nodelet and node (slam_rawlog_*.test): the rawlog player feeds the test
+// log (test/data/sim.rawlog, 159 scans) on simulated time; this node checks what comes out.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <std_msgs/Bool.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "evidential_slam/EvidentialGrid.h"
+#include "evidential_slam/SaveMap.h"
+#include "evidential_slam/core/metrics.h"
+#include "evidential_slam/io/ground_truth.h"
+#include "evidential_slam/io/trajectory_io.h"
+
+namespace evidential_slam {
+namespace {
+
+struct Observed {
+  std::mutex mutex;
+  bool done = false;
+  std::vector<size_t> path_sizes;
+  EvidentialGrid::ConstPtr grid;
+  nav_msgs::OccupancyGrid::ConstPtr map;
+  geometry_msgs::PoseWithCovarianceStamped::ConstPtr pose;
+};
+
+Observed* observed = nullptr;
+tf2_ros::Buffer* tf_buffer = nullptr;
+
+// Waits (wall time) until `ready` holds; false on timeout.
+template <typename F>
+bool waitFor(F&& ready, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < deadline && ros::ok()) {
+    {
+      std::lock_guard<std::mutex> lock(observed->mutex);
+      if (ready()) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::lock_guard<std::mutex> lock(observed->mutex);
+  return ready();
+}
+
+std::string param(const std::string& name) {
+  std::string value;
+  ros::param::get("~" + name, value);
+  return value;
+}
+
+// The whole log is mapped: every scan reaches the path, the grid carries nine consistent layers,
+// map -> odom exists, and the trajectory saved by save_map matches the ground truth.
+TEST(SlamRawlog, MapsTheLogThroughRos) {
+  ASSERT_TRUE(waitFor([] { return observed->done; }, 150.0)) << "the player did not finish";
+  std::vector<StampedPose> truth;  // one pose per scan of the log
+  std::string error;
+  ASSERT_TRUE(io::readGroundTruth(param("ground_truth"), &truth, &error)) << error;
+  const size_t scans = truth.size();
+  const double last_stamp = truth.back().stamp;
+  ASSERT_TRUE(waitFor(
+      [&] {
+        return observed->pose && std::abs(observed->pose->header.stamp.toSec() - last_stamp) < 1e-3;
+      },
+      60.0))
+      << "the pose of the last scan never came";
+  {
+    std::lock_guard<std::mutex> lock(observed->mutex);
+    // The path (published at every processed scan) grows while the log plays.
+    ASSERT_GE(observed->path_sizes.size(), 3u);
+    EXPECT_LT(observed->path_sizes.front(), observed->path_sizes.back());
+    EXPECT_GT(observed->path_sizes.back(), scans - 10);
+    for (size_t i = 1; i < observed->path_sizes.size(); ++i) {
+      EXPECT_LE(observed->path_sizes[i - 1], observed->path_sizes[i]);
+    }
+  }
+  ASSERT_TRUE(waitFor([] { return observed->grid && observed->map && observed->pose; }, 30.0))
+      << "no grid, map or pose arrived";
+  {
+    std::lock_guard<std::mutex> lock(observed->mutex);
+    const EvidentialGrid& g = *observed->grid;
+    const std::vector<std::string> names = {
+        "occupied",  "free",           "unknown",           "conflict",
+        "pignistic", "nonspecificity", "internal_conflict", "external_conflict",
+        "entropy"};
+    EXPECT_EQ(g.layers, names);
+    ASSERT_EQ(g.data.size(), names.size());
+    const size_t cells = static_cast<size_t>(g.info.width) * g.info.height;
+    EXPECT_GT(cells, 1000u);
+    EXPECT_NEAR(g.info.resolution, 0.05, 1e-6);
+    EXPECT_EQ(g.header.frame_id, "map");
+    for (const auto& layer : g.data) EXPECT_EQ(layer.data.size(), cells);
+    EXPECT_EQ(g.observed.size(), cells);
+    const nav_msgs::OccupancyGrid& m = *observed->map;
+    EXPECT_EQ(m.data.size(), static_cast<size_t>(m.info.width) * m.info.height);
+    size_t unknown = 0, occupied = 0;
+    for (int8_t v : m.data) {
+      unknown += v == -1;
+      occupied += v > 65;
+    }
+    EXPECT_GT(unknown, 0u);
+    EXPECT_GT(occupied, 100u);
+  }
+  EXPECT_TRUE(tf_buffer->canTransform("map", "odom", ros::Time(0), ros::Duration(5.0), &error))
+      << error;
+
+  // save_map writes the trajectory; score it like the offline runner does.
+  const std::filesystem::path dir =
+      std::filesystem::path(param("output_dir")) / ros::this_node::getName().substr(1);
+  SaveMap save;
+  save.request.directory = dir.string();
+  ASSERT_TRUE(ros::service::call("/evidential_slam/save_map", save));
+  ASSERT_TRUE(save.response.success) << save.response.message;
+  for (const char* f : {"pignistic.pgm", "pignistic.yaml", "external_conflict.npy", "composite.png",
+                        "trajectory.tum"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  }
+  std::vector<StampedPose> trajectory;
+  ASSERT_TRUE(io::readTumTrajectory((dir / "trajectory.tum").string(), &trajectory, &error))
+      << error;
+  EXPECT_EQ(trajectory.size(), scans);
+  AteResult ate;
+  ASSERT_TRUE(computeAte(trajectory, truth, 0.05, &ate, &error)) << error;
+  EXPECT_EQ(ate.matched, scans);
+  // The offline runner's bound for the same log and settings (test/io/offline_e2e_test.cpp).
+  EXPECT_LT(ate.rmse, 0.15);
+  RecordProperty("ate_rmse_m", std::to_string(ate.rmse));
+}
+
+dynamic_reconfigure::Reconfigure::Response reconfigure(
+    const std::vector<std::pair<std::string, double>>& values) {
+  dynamic_reconfigure::Reconfigure srv;
+  for (const auto& [name, value] : values) {
+    dynamic_reconfigure::DoubleParameter p;
+    p.name = name;
+    p.value = value;
+    srv.request.config.doubles.push_back(p);
+  }
+  EXPECT_TRUE(ros::service::call("/evidential_slam/set_parameters", srv));
+  return srv.response;
+}
+
+double valueOf(const dynamic_reconfigure::Reconfigure::Response& r, const std::string& name) {
+  for (const auto& d : r.config.doubles) {
+    if (d.name == name) return d.value;
+  }
+  ADD_FAILURE() << name << " missing from the reconfigure response";
+  return -1.0;
+}
+
+// A valid change is taken (and lands on the parameter server); an inconsistent one (min_range
+// above usable_range, each within its cfg range) is refused and the previous values come back.
+TEST(SlamRawlog, DynamicReconfigureChangesParametersLive) {
+  ASSERT_TRUE(ros::service::waitForService("/evidential_slam/set_parameters", 10000));
+  EXPECT_DOUBLE_EQ(valueOf(reconfigure({{"update_min_distance", 0.2}}), "update_min_distance"),
+                   0.2);
+  double stored = 0.0;
+  EXPECT_TRUE(ros::param::get("/evidential_slam/update_min_distance", stored));
+  EXPECT_DOUBLE_EQ(stored, 0.2);
+  const auto refused = reconfigure({{"usable_range", 1.0}, {"min_range", 5.0}});
+  EXPECT_DOUBLE_EQ(valueOf(refused, "min_range"), 0.05);
+  EXPECT_DOUBLE_EQ(valueOf(refused, "usable_range"), 20.0);
+}
+
+}  // namespace
+}  // namespace evidential_slam
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "slam_rawlog_test");
+  ros::NodeHandle nh;
+  evidential_slam::Observed obs;
+  evidential_slam::observed = &obs;
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener(buffer);
+  evidential_slam::tf_buffer = &buffer;
+  auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
+    std::lock_guard<std::mutex> lock(obs.mutex);
+    obs.done = m->data;
+  });
+  auto path = nh.subscribe<nav_msgs::Path>("/evidential_slam/path", 100, [&](const auto& m) {
+    std::lock_guard<std::mutex> lock(obs.mutex);
+    obs.path_sizes.push_back(m->poses.size());
+  });
+  auto grid = nh.subscribe<evidential_slam::EvidentialGrid>(
+      "/evidential_slam/grid", 1, [&](const evidential_slam::EvidentialGrid::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.grid = m;
+      });
+  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
+                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+                                                     std::lock_guard<std::mutex> lock(obs.mutex);
+                                                     obs.map = m;
+                                                   });
+  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+      "/evidential_slam/pose", 10,
+      [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.pose = m;
+      });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
