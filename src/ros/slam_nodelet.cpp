@@ -279,6 +279,10 @@ void SlamNodelet::publishTransform(const ros::TimerEvent&) {
     // Post-dated like gmapping's, so consumers can transform data up to the next broadcast.
     t.header.stamp = ros::Time::now() + ros::Duration(params_.transform_tolerance);
   }
+  // tf refuses (and warns about) a second transform with the same stamp: simulated time may not
+  // have advanced since the last broadcast.
+  if (t.header.stamp == last_tf_stamp_) return;
+  last_tf_stamp_ = t.header.stamp;
   t.transform = toTransformMsg(map_to_odom);
   tf_broadcaster_->sendTransform(t);
 }

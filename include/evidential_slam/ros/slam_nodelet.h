@@ -72,6 +72,7 @@ class SlamNodelet : public nodelet::Nodelet {
   std::mutex transform_mutex_;
   bool have_transform_ = false;
   Pose2 map_to_odom_;
+  ros::Time last_tf_stamp_;  // of the last map -> odom broadcast (tf timer thread only)
 };
 
 }  // namespace ros_adapter
