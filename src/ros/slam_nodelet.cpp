@@ -80,7 +80,7 @@ void SlamNodelet::onInit() {
                                                   [this] { return worker_->latestMap(); });
   map_publisher_->setExternalConflictDisplayMax(params_.external_conflict_display_max);
 
-  pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10);
+  pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10, true);
   particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
 
