@@ -1,6 +1,6 @@
 # OctoMap export: the evidential_slam_octomap library (EvidentialOcTree, the export of a grid to
 # .evidential.ot / .bt / .color.ot, the checked reader), the evidential_octomap_info tool, the
-# offline runner's --export-octomap.
+# offline runner's --export-octomap and their tests.
 # Included from CMakeLists.txt right after the offline runner's target. evidential_slam_io (the
 # src/io/*.cpp glob) stays free of OctoMap: everything OctoMap lives in src/io/octomap/.
 
@@ -23,3 +23,40 @@ install(TARGETS evidential_slam_octomap
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
 install(TARGETS evidential_octomap_info RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # octomap-tools' own programs read the exported .bt in a test.
+  find_program(ES_BT2VRML bt2vrml)
+  find_program(ES_CONVERT_OCTREE convert_octree)
+  find_program(ES_COMPARE_OCTREES compare_octrees)
+  foreach(tool ES_BT2VRML ES_CONVERT_OCTREE ES_COMPARE_OCTREES)
+    if(NOT ${tool})
+      message(WARNING "${tool}: not found (install octomap-tools); its test will fail")
+      set(${tool} "")
+    endif()
+  endforeach()
+
+  # A program that knows the tree only through OctoMap's factory (AbstractOcTree::read and a
+  # dynamic_cast), as a third party would: proves --as-needed keeps the library and its
+  # registration (build-notes.md item 5).
+  add_executable(evidential_octomap_consumer test/io/octomap_factory_consumer.cpp)
+  target_link_libraries(evidential_octomap_consumer evidential_slam_octomap)
+
+  set(OCTOMAP_TEST_DEFINITIONS
+    ES_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"
+    ES_TEST_TMP_DIR="${CMAKE_CURRENT_BINARY_DIR}/test_tmp"
+    ES_OFFLINE_BIN="$<TARGET_FILE:evidential_slam_offline>"
+    ES_INFO_BIN="$<TARGET_FILE:evidential_octomap_info>"
+    ES_CONSUMER_BIN="$<TARGET_FILE:evidential_octomap_consumer>"
+    ES_BT2VRML="${ES_BT2VRML}"
+    ES_CONVERT_OCTREE="${ES_CONVERT_OCTREE}"
+    ES_COMPARE_OCTREES="${ES_COMPARE_OCTREES}")
+
+  catkin_add_gtest(test_octomap
+    test/io/octomap_tree_test.cpp test/io/octomap_tools_test.cpp test/io/test_main.cpp
+    TIMEOUT 300)
+  target_link_libraries(test_octomap evidential_slam_octomap nlohmann_json::nlohmann_json)
+  target_compile_definitions(test_octomap PRIVATE ${OCTOMAP_TEST_DEFINITIONS})
+  add_dependencies(test_octomap evidential_slam_offline evidential_octomap_info
+    evidential_octomap_consumer)
+endif()
