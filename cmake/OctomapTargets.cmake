@@ -1,6 +1,6 @@
 # OctoMap export: the evidential_slam_octomap library (EvidentialOcTree, the export of a grid to
 # .evidential.ot / .bt / .color.ot, the checked reader), the evidential_octomap_info tool, the
-# offline runner's --export-octomap and their tests.
+# offline runner's --export-octomap, their tests and the reader's libFuzzer target.
 # Included from CMakeLists.txt right after the offline runner's target. evidential_slam_io (the
 # src/io/*.cpp glob) stays free of OctoMap: everything OctoMap lives in src/io/octomap/.
 
@@ -59,4 +59,63 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_octomap PRIVATE ${OCTOMAP_TEST_DEFINITIONS})
   add_dependencies(test_octomap evidential_slam_offline evidential_octomap_info
     evidential_octomap_consumer)
+
+  # --- libFuzzer target for the reader -------------------------------------------------------
+  # Built with clang (the package itself builds with gcc) when clang++ can link -fsanitize=fuzzer
+  # (Debian: clang + libclang-rt-14-dev, both in scripts/packages.txt). test_octomap_fuzz runs it
+  # for a few seconds on a seed corpus it writes; without a usable clang that test FAILS and says
+  # why (configure with -DES_ALLOW_NO_FUZZER=ON to turn it into a reported skip instead).
+  option(ES_ALLOW_NO_FUZZER "Skip (instead of fail) the fuzz test when clang/libFuzzer is missing"
+    OFF)
+  set(ES_FUZZER_BIN "")
+  find_program(ES_CLANGXX NAMES clang++ clang++-14)
+  if(ES_CLANGXX)
+    set(probe_dir "${CMAKE_CURRENT_BINARY_DIR}/fuzzer_probe")
+    file(WRITE "${probe_dir}/probe.cpp"
+      "#include <cstddef>\n#include <cstdint>\n"
+      "extern \"C\" int LLVMFuzzerTestOneInput(const uint8_t*, size_t) { return 0; }\n")
+    execute_process(
+      COMMAND "${ES_CLANGXX}" -fsanitize=fuzzer,address,undefined "${probe_dir}/probe.cpp"
+              -o "${probe_dir}/probe"
+      RESULT_VARIABLE probe_rc OUTPUT_QUIET ERROR_VARIABLE probe_err)
+    if(probe_rc EQUAL 0)
+      set(ES_FUZZER_BIN "${CMAKE_CURRENT_BINARY_DIR}/evidential_octree_fuzzer")
+    else()
+      message(WARNING "${ES_CLANGXX} cannot link -fsanitize=fuzzer (install libclang-rt-14-dev): "
+        "${probe_err}")
+    endif()
+  else()
+    message(WARNING "clang++ not found: the reader's fuzz test will fail (install clang)")
+  endif()
+
+  if(ES_FUZZER_BIN)
+    set(fuzz_sources
+      "${CMAKE_CURRENT_SOURCE_DIR}/test/io/octomap_reader_fuzzer.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/io/octomap/evidential_octree.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/core/mass.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/core/measures.cpp")
+    file(GLOB fuzz_headers CONFIGURE_DEPENDS
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/evidential_octree.h"
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/mass.h"
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/measures.h")
+    add_custom_command(OUTPUT "${ES_FUZZER_BIN}"
+      COMMAND "${ES_CLANGXX}" -std=c++17 -O1 -g -fno-omit-frame-pointer
+              -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+              "-I${CMAKE_CURRENT_SOURCE_DIR}/include" ${fuzz_sources}
+              "$<TARGET_FILE:octomap>" "$<TARGET_FILE:octomath>" -o "${ES_FUZZER_BIN}"
+      DEPENDS ${fuzz_sources} ${fuzz_headers}
+      COMMENT "Building the EvidentialOcTree reader's libFuzzer target with clang"
+      VERBATIM)
+    add_custom_target(evidential_octree_fuzzer DEPENDS "${ES_FUZZER_BIN}")
+  endif()
+
+  catkin_add_gtest(test_octomap_fuzz test/io/octomap_fuzz_test.cpp test/io/test_main.cpp
+    TIMEOUT 300)
+  target_link_libraries(test_octomap_fuzz evidential_slam_octomap)
+  target_compile_definitions(test_octomap_fuzz PRIVATE ${OCTOMAP_TEST_DEFINITIONS}
+    ES_FUZZER_BIN="${ES_FUZZER_BIN}"
+    ES_ALLOW_NO_FUZZER=$<BOOL:${ES_ALLOW_NO_FUZZER}>)
+  if(ES_FUZZER_BIN)
+    add_dependencies(test_octomap_fuzz evidential_octree_fuzzer)
+  endif()
 endif()
