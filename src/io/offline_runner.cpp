@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 
@@ -37,8 +38,9 @@ constexpr uint64_t kRejectionsShown = 3;
 
 class Run {
  public:
-  Run(const OfflineOptions& o, std::FILE* out, std::FILE* err, bool tty)
-      : opt_(o), out_(out), err_(err), tty_(tty) {}
+  Run(const OfflineOptions& o, std::FILE* out, std::FILE* err, bool tty,
+      const MapExporter& octomap_exporter)
+      : opt_(o), out_(out), err_(err), tty_(tty), octomap_exporter_(octomap_exporter) {}
 
   int execute();
 
@@ -60,6 +62,7 @@ class Run {
   std::FILE* out_;
   std::FILE* err_;
   bool tty_;
+  const MapExporter& octomap_exporter_;
   std::unique_ptr<ProgressBar> progress_;
   RunSummary summary_;
   std::vector<StampedPose> truth_;
@@ -72,6 +75,9 @@ int Run::execute() {
   const auto t0 = std::chrono::steady_clock::now();
   std::string why;
   if (!opt_.slam.isValid(&why)) return fail(kExitUsage, "invalid parameters: " + why);
+  if (opt_.export_octomap && !octomap_exporter_) {
+    return fail(kExitUsage, "--export-octomap is not available in this program");
+  }
 
   summary_.rawlog = opt_.rawlog;
   summary_.ground_truth = opt_.ground_truth;
@@ -222,6 +228,14 @@ int Run::execute() {
   std::fprintf(out_, "trajectory: %s\n", (out_dir_ / "trajectory.tum").string().c_str());
   std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, map.yaml)\n",
                layers_dir_.string().c_str(), summary_.map_width, summary_.map_height);
+  if (summary_.octomap) {
+    const MapExportSummary& o = *summary_.octomap;
+    uint64_t bytes = 0;
+    for (uint64_t b : o.bytes) bytes += b;
+    std::fprintf(out_, "octomap:    %s/ (%zu files, %.1f MB, %llu voxels, export %.2f s)\n",
+                 (out_dir_ / "octomap").string().c_str(), o.files.size(), bytes / 1e6,
+                 static_cast<unsigned long long>(o.voxels), o.seconds);
+  }
   std::fprintf(out_, "summary:    %s\n", summary_path.c_str());
   std::fflush(out_);
   return kExitOk;
@@ -243,6 +257,24 @@ bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
   summary_.external_conflict_scale = written.external_conflict_scale;
   summary_.map_width = raster.width;
   summary_.map_height = raster.height;
+
+  if (opt_.export_octomap) {
+    MapExportReport report;
+    if (!octomap_exporter_(engine.bestMap(), opt_, &report, error)) return false;
+    MapExportSummary octomap;
+    for (const std::string& f : report.files) {
+      const std::string rel = fs::path(f).lexically_relative(out_dir_).string();
+      octomap.files.push_back(rel);
+      summary_.outputs.push_back(rel);
+    }
+    octomap.bytes = report.bytes;
+    octomap.seconds = report.seconds;
+    octomap.z_min = opt_.octomap_z_min;
+    octomap.z_max = opt_.octomap_z_max;
+    octomap.z_layers = report.z_layers;
+    octomap.voxels = report.voxels;
+    summary_.octomap = octomap;
+  }
   return true;
 }
 
@@ -258,6 +290,7 @@ std::string offlineUsage(const std::string& program) {
   return "usage: " + program +
          " --rawlog FILE --out DIR [--ground-truth GT.txt] [--particles K] [--seed N]\n"
          "       [--resolution M] [--threads N] [--max-scans N] [--laser-label L] [--quiet]\n"
+         "       [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
          "\n"
          "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
          "Writes DIR/trajectory.tum, DIR/layers/{<layer>.png,<layer>.npy,composite.png,\n"
@@ -273,6 +306,10 @@ std::string offlineUsage(const std::string& program) {
          "  --max-scans N         stop after N scans\n"
          "  --laser-label L       use only scans with this sensor label\n"
          "  --quiet               no progress line and no warnings on stderr\n"
+         "  --export-octomap      also write DIR/octomap/map.evidential.ot (all masses),\n"
+         "                        map.bt (OcTree of BetP) and map.color.ot (RGB = masses)\n"
+         "  --octomap-z-min Z     the voxel slab spans the layers from the one containing Z ...\n"
+         "  --octomap-z-max Z     ... to the one containing Z, metres (both default 0: one layer)\n"
          "\n"
          "Exit codes: 0 success (also a truncated log), 1 bad usage, 2 unusable input or\n"
          "unwritable output, 3 internal error.\n";
@@ -281,6 +318,7 @@ std::string offlineUsage(const std::string& program) {
 bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, bool* help,
                       std::string* error) {
   *help = false;
+  bool z_given = false;
   auto bad = [&](const std::string& why) {
     if (error) *error = why;
     return false;
@@ -306,9 +344,15 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       o->quiet = true;
       continue;
     }
-    static const char* kValued[] = {"--rawlog",    "--out",       "--ground-truth",
-                                    "--particles", "--seed",      "--resolution",
-                                    "--threads",   "--max-scans", "--laser-label"};
+    if (flag == "--export-octomap") {
+      if (has_inline) return bad("--export-octomap takes no value");
+      o->export_octomap = true;
+      continue;
+    }
+    static const char* kValued[] = {"--rawlog",        "--out",          "--ground-truth",
+                                    "--particles",     "--seed",         "--resolution",
+                                    "--threads",       "--max-scans",    "--laser-label",
+                                    "--octomap-z-min", "--octomap-z-max"};
     bool known = false;
     for (const char* k : kValued) known = known || flag == k;
     if (!known) return bad("unknown option '" + args[i] + "'");
@@ -346,10 +390,23 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       uint64_t n = 0;
       if (!parseNumber(value, &n) || n == 0) return bad("--max-scans wants an integer >= 1");
       o->max_scans = n;
+    } else if (flag == "--octomap-z-min" || flag == "--octomap-z-max") {
+      double z = 0;
+      if (!parseNumber(value, &z) || !std::isfinite(z) || std::abs(z) > 1000.0) {
+        return bad(flag + " wants a height in metres within +-1000");
+      }
+      (flag == "--octomap-z-min" ? o->octomap_z_min : o->octomap_z_max) = z;
+      z_given = true;
     }
   }
   if (o->rawlog.empty()) return bad("--rawlog is required");
   if (o->out_dir.empty()) return bad("--out is required");
+  if (z_given && !o->export_octomap) {
+    return bad("--octomap-z-min/--octomap-z-max need --export-octomap");
+  }
+  if (o->octomap_z_min > o->octomap_z_max) {
+    return bad("--octomap-z-min must not be above --octomap-z-max");
+  }
   return true;
 }
 
@@ -369,9 +426,10 @@ std::string oneLine(const std::string& what) {
 
 }  // namespace
 
-int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty) {
+int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty,
+               const MapExporter& octomap_exporter) {
   try {
-    Run run(options, out, err, err_is_tty);
+    Run run(options, out, err, err_is_tty, octomap_exporter);
     return run.execute();
   } catch (const std::bad_alloc&) {
     std::fprintf(err, "error: out of memory\n");

@@ -47,6 +47,17 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["map_width"] = s.map_width;
   j["map_height"] = s.map_height;
   j["outputs"] = s.outputs;
+  if (s.octomap) {
+    nlohmann::ordered_json o;
+    o["files"] = s.octomap->files;
+    o["bytes"] = s.octomap->bytes;
+    o["export_time_s"] = s.octomap->seconds;
+    o["z_min"] = s.octomap->z_min;
+    o["z_max"] = s.octomap->z_max;
+    o["z_layers"] = s.octomap->z_layers;
+    o["voxels"] = s.octomap->voxels;
+    j["octomap"] = o;
+  }
 
   std::ofstream out(path);
   if (!out) {

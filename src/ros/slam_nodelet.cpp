@@ -11,6 +11,7 @@
 
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/io/layer_writer.h"
+#include "evidential_slam/io/octomap_export.h"
 #include "evidential_slam/io/trajectory_io.h"
 #include "evidential_slam/ros/conversions.h"
 
@@ -348,6 +349,12 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
   const std::string tum = (std::filesystem::path(request.directory) / "trajectory.tum").string();
   if (!io::writeTumTrajectory(tum, trajectory, &error)) return fail(error);
   response.files.push_back(tum);
+  io::OctomapExportResult octomap;
+  const std::string prefix = (std::filesystem::path(request.directory) / "map").string();
+  if (!io::exportOctomap(grid, io::OctomapExportConfig(), prefix, &octomap, &error)) {
+    return fail(error);
+  }
+  for (const io::OctomapExportFile& f : octomap.files) response.files.push_back(f.path);
   response.success = true;
   response.message =
       "saved " + std::to_string(response.files.size()) + " files to " + request.directory;

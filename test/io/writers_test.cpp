@@ -381,10 +381,36 @@ TEST(Summary, JsonHasTheDocumentedKeys) {
   EXPECT_EQ(j["warnings"].size(), 2u);
   EXPECT_DOUBLE_EQ(j["ate_rmse_m"].get<double>(), 0.25);
 
-  // Without ground truth there are no ATE keys.
+  // Without ground truth there are no ATE keys, and without --export-octomap no "octomap".
   RunSummary plain;
   ASSERT_TRUE(writeSummaryJson(path, plain, &error));
   EXPECT_FALSE(nlohmann::json::parse(test::readText(path)).contains("ate_rmse_m"));
+  EXPECT_FALSE(nlohmann::json::parse(test::readText(path)).contains("octomap"));
+}
+
+TEST(Summary, OctomapExportIsOneObject) {
+  const auto path = (test::scratchDir() / "summary.json").string();
+  RunSummary s;
+  MapExportSummary o;
+  o.files = {"octomap/map.evidential.ot", "octomap/map.bt", "octomap/map.color.ot"};
+  o.bytes = {300, 100, 200};
+  o.seconds = 1.5;
+  o.z_min = -0.1;
+  o.z_max = 0.2;
+  o.z_layers = 7;
+  o.voxels = 700;
+  s.octomap = o;
+  std::string error;
+  ASSERT_TRUE(writeSummaryJson(path, s, &error)) << error;
+  const auto j = nlohmann::json::parse(test::readText(path))["octomap"];
+  EXPECT_EQ(j["files"].size(), 3u);
+  EXPECT_EQ(j["files"][1], "octomap/map.bt");
+  EXPECT_EQ(j["bytes"][2], 200);
+  EXPECT_DOUBLE_EQ(j["export_time_s"].get<double>(), 1.5);
+  EXPECT_DOUBLE_EQ(j["z_min"].get<double>(), -0.1);
+  EXPECT_DOUBLE_EQ(j["z_max"].get<double>(), 0.2);
+  EXPECT_EQ(j["z_layers"], 7);
+  EXPECT_EQ(j["voxels"], 700);
 }
 
 // --- progress -----------------------------------------------------------------------------------

@@ -6,12 +6,14 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "evidential_slam/core/config.h"
 
 namespace evidential_slam {
+class EvidentialGridMap;
 namespace io {
 
 // Process exit codes of the runner.
@@ -32,7 +34,27 @@ struct OfflineOptions {
   uint64_t max_scans = 0;    // 0 = all
   bool quiet = false;        // no progress line, no per-scan warnings
   double ate_max_dt = 0.05;  // s, timestamp association window for the ATE
+  // --export-octomap: <out>/octomap/map.{evidential.ot,bt,color.ot} (octomap_export.h), a slab
+  // of voxel layers from the one containing octomap_z_min to the one containing octomap_z_max.
+  bool export_octomap = false;
+  double octomap_z_min = 0.0;  // m
+  double octomap_z_max = 0.0;  // m
 };
+
+// What a map exporter wrote, for summary.json and the printed summary.
+struct MapExportReport {
+  std::vector<std::string> files;  // full paths
+  std::vector<uint64_t> bytes;     // size of each file
+  double seconds = 0.0;            // whole export
+  int z_layers = 0;
+  uint64_t voxels = 0;
+};
+
+// Writes the final map in further formats after the layers. The OctoMap export lives in its own
+// library (evidential_slam_octomap, which depends on this one), so main() passes it in
+// (exportOctomapForOfflineRun, octomap_export.h).
+using MapExporter = std::function<bool(const EvidentialGridMap& map, const OfflineOptions& options,
+                                       MapExportReport* report, std::string* error)>;
 
 // Usage text for --help and usage errors.
 std::string offlineUsage(const std::string& program);
@@ -43,8 +65,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* opti
                       std::string* error);
 
 // Runs everything; returns the exit code. The short summary goes to `out`; progress, warnings and
-// `error: ...` lines go to `err` (progress redraws in place when `err_is_tty`).
-int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty);
+// `error: ...` lines go to `err` (progress redraws in place when `err_is_tty`). With
+// options.export_octomap, `octomap_exporter` must be set (else kExitUsage before any work).
+int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty,
+               const MapExporter& octomap_exporter = nullptr);
 
 // Peak resident set size of this process so far, MB (getrusage).
 double peakRssMb();

@@ -16,6 +16,17 @@ struct AteSummary {
   uint64_t matched = 0;
 };
 
+// What --export-octomap wrote (summary.json: "octomap").
+struct MapExportSummary {
+  std::vector<std::string> files;  // relative to the output directory
+  std::vector<uint64_t> bytes;     // size of each file
+  double seconds = 0.0;            // export time, all files
+  double z_min = 0.0;
+  double z_max = 0.0;
+  int z_layers = 0;
+  uint64_t voxels = 0;  // observed cells * z_layers
+};
+
 struct RunSummary {
   std::string rawlog;
   std::string rawlog_format;            // "actions/sensory-frames" or "observations"
@@ -42,7 +53,8 @@ struct RunSummary {
   double external_conflict_scale = 0.0;    // EC drawn black in external_conflict.png
   int map_width = 0;
   int map_height = 0;
-  std::vector<std::string> outputs;  // files written, relative to the output directory
+  std::vector<std::string> outputs;         // files written, relative to the output directory
+  std::optional<MapExportSummary> octomap;  // with --export-octomap
 };
 
 // Writes `summary` as pretty-printed JSON. False (and `error`) when the file cannot be written.

@@ -1,0 +1,135 @@
+// EvidentialOcTree: an OctoMap tree type whose voxels hold the evidential masses of a cell, saved
+// as an OctoMap ".ot" file, and a reader that turns any bad file into an error message.
+//
+// A node keeps OctoMap's own occupancy value (a float log-odds) as the log-odds of BetP(o), so
+// generic OctoMap code (ray casting, isNodeOccupied, iterators, bounding boxes) works on the tree
+// unchanged, and adds the cell's stored belief: m̃(o), m̃(e) and λ = -ln(1 - m(∅)), the same three
+// floats as evidential_slam::Cell (core/mass.h), so a file holds exactly what the grid held, also
+// for heavily conflicted cells whose explicit masses would round away. Byte layout of one node in
+// the file (host byte order, i.e. little-endian on x86/ARM, like every OctoMap file):
+//   float32 log-odds of BetP(o) | float32 m̃(o) | float32 m̃(e) | float32 λ | uint8 child bits
+// (the child byte is OctoMap's: bit i set = child i follows, depth first; see the README).
+//
+// The type registers itself with OctoMap's tree factory (AbstractOcTree::read / createTree find it
+// by the name "EvidentialOcTree") when this library is loaded. Debian links with --as-needed, which
+// drops a library used only for that self-registration: the tree's destructor is its key function
+// (defined in the .cpp), so a program that names the type at all — a dynamic_cast to
+// EvidentialOcTree* after AbstractOcTree::read is enough — keeps the library and its registration.
+#pragma once
+
+#include <octomap/OcTreeNode.h>
+#include <octomap/OccupancyOcTreeBase.h>
+
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+
+#include "evidential_slam/core/mass.h"
+
+namespace evidential_slam {
+namespace io {
+
+// OctoMap occupancy value of a cell: ln(BetP / (1 - BetP)), BetP clamped to [1e-6, 1 - 1e-6] so
+// the value stays finite (|value| <= 13.82). A vacuous cell gives 0 (BetP = 0.5).
+float occupancyLogOdds(const Cell& cell);
+
+// True when the stored belief is one a grid can hold: finite, m̃(o), m̃(e) in [0, 1],
+// m̃(o) + m̃(e) <= 1 (up to float rounding), λ >= 0.
+bool isValidCell(const Cell& cell);
+
+class EvidentialOcTreeNode : public octomap::OcTreeNode {
+ public:
+  // Bytes of one node's payload in a file (without OctoMap's child byte).
+  static constexpr size_t kPayloadBytes = 16;
+
+  EvidentialOcTreeNode() = default;
+
+  const Cell& cell() const { return cell_; }
+  // Sets the belief and the OctoMap value (occupancyLogOdds) together.
+  void setCell(const Cell& cell) {
+    cell_ = cell;
+    setLogOdds(occupancyLogOdds(cell));
+  }
+  Mass mass() const { return cell_.toMass(); }  // m(∅), m(o), m(e), m(Θ)
+
+  // Pruning merges children only when this is true for all of them: equal value and masses.
+  bool operator==(const EvidentialOcTreeNode& rhs) const {
+    return value == rhs.value && cell_.occupied == rhs.cell_.occupied &&
+           cell_.free == rhs.cell_.free && cell_.lambda == rhs.cell_.lambda;
+  }
+  void copyData(const EvidentialOcTreeNode& from) {
+    OcTreeNode::copyData(from);
+    cell_ = from.cell_;
+  }
+
+  // File I/O of the payload (layout above). readData sets failbit on a short read and on values
+  // no grid can hold (a non-finite value, or !isValidCell).
+  std::istream& readData(std::istream& s);
+  std::ostream& writeData(std::ostream& s) const;
+
+ private:
+  Cell cell_;
+};
+
+class EvidentialOcTree : public octomap::OccupancyOcTreeBase<EvidentialOcTreeNode> {
+ public:
+  static const std::string kTreeType;  // "EvidentialOcTree", the id in the file header
+
+  explicit EvidentialOcTree(double resolution);
+  ~EvidentialOcTree() override;  // key function: keep it out of line (see the top of this file)
+  // OctoMap's tree copy constructor copies nodes as its own base node type and would lose the
+  // masses; no copies.
+  EvidentialOcTree(const EvidentialOcTree&) = delete;
+  EvidentialOcTree& operator=(const EvidentialOcTree&) = delete;
+
+  EvidentialOcTree* create() const override;
+  std::string getTreeType() const override;
+
+  // Creates (or overwrites) the finest-level voxel at `key` with `cell`; inner nodes are not
+  // updated (call updateInnerNodes() once after the last voxel, then prune()).
+  EvidentialOcTreeNode* setNodeCell(const octomap::OcTreeKey& key, const Cell& cell);
+
+  // Every inner node takes the value and masses of its most occupied child, recursively (OctoMap's
+  // convention that an inner node carries the maximum occupancy below it, extended to the masses
+  // so a node's value is always the log-odds of its own BetP).
+  void updateInnerNodes();
+
+  // Reads the node data after the header (the AbstractOcTree::read path). Unlike OctoMap's own
+  // reader it never goes deeper than the tree depth, stops at the first short read or invalid
+  // node, and then leaves the tree empty with failbit set on `s` (and a message on stderr, as
+  // OctoMap reports its read errors).
+  std::istream& readData(std::istream& s) override;
+
+  // The same, with the node count from the header and a message: false (tree empty) when the data
+  // is short, holds an invalid node, a child below the finest level, more or fewer nodes than
+  // `expected_nodes`, or bytes after the last node.
+  bool readNodes(std::istream& s, uint64_t expected_nodes, std::string* error);
+
+ private:
+  bool readNodesRecurs(EvidentialOcTreeNode* node, unsigned depth, std::istream& s,
+                       uint64_t max_nodes, uint64_t* count, std::string* error);
+  void updateInnerNodesRecurs(EvidentialOcTreeNode* node, unsigned depth);
+
+  // Registers a prototype with OctoMap's factory at load time (the pattern of OctoMap's own trees).
+  class StaticMemberInitializer {
+   public:
+    StaticMemberInitializer();
+    void ensureLinking() {}
+  };
+  static StaticMemberInitializer registration_;
+};
+
+// Reads an EvidentialOcTree file written by exportOctomap() (or by AbstractOcTree::write on an
+// EvidentialOcTree). Never throws and never crashes on bad input: garbage, a truncated file, a .bt
+// file, another tree type (OcTree, ColorOcTree, ...), or masses no grid can hold give false and a
+// one-line `error` that names the problem. Checks the header's tree id before any node is read,
+// so OctoMap's unchecked readers never see a foreign file.
+bool readEvidentialOctree(const std::string& path, std::unique_ptr<EvidentialOcTree>* tree,
+                          std::string* error);
+// The same from a stream (`name` is used in messages).
+bool readEvidentialOctree(std::istream& in, const std::string& name,
+                          std::unique_ptr<EvidentialOcTree>* tree, std::string* error);
+
+}  // namespace io
+}  // namespace evidential_slam

@@ -1,0 +1,385 @@
+// EvidentialOcTree, its node I/O and the checked reader. See evidential_octree.h.
+#include "evidential_slam/io/evidential_octree.h"
+
+#include <octomap/AbstractOcTree.h>
+#include <octomap/octomap_types.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <istream>
+#include <limits>
+#include <ostream>
+#include <system_error>
+
+#include "evidential_slam/core/measures.h"
+
+namespace evidential_slam {
+namespace io {
+
+static_assert(sizeof(float) == 4, "the file layout stores float32");
+static_assert(EvidentialOcTreeNode::kPayloadBytes == 4 * sizeof(float), "payload = 4 floats");
+
+namespace {
+
+constexpr double kBetPClamp = 1e-6;
+// Masses may leave [0, 1] and their sum exceed 1 by float rounding (core's own tolerance).
+constexpr float kMassTolerance = 1e-5f;
+
+}  // namespace
+
+float occupancyLogOdds(const Cell& cell) {
+  const double p = std::clamp(pignistic(cell), kBetPClamp, 1.0 - kBetPClamp);
+  return static_cast<float>(std::log(p / (1.0 - p)));
+}
+
+bool isValidCell(const Cell& c) {
+  if (!std::isfinite(c.occupied) || !std::isfinite(c.free) || !std::isfinite(c.lambda)) {
+    return false;
+  }
+  const auto in_unit = [](float m) { return m >= -kMassTolerance && m <= 1.0f + kMassTolerance; };
+  return in_unit(c.occupied) && in_unit(c.free) && c.occupied + c.free <= 1.0f + kMassTolerance &&
+         c.lambda >= 0.0f;
+}
+
+// ---- node ---------------------------------------------------------------------------------------
+
+std::istream& EvidentialOcTreeNode::readData(std::istream& s) {
+  float v[4];
+  s.read(reinterpret_cast<char*>(v), sizeof(v));
+  if (!s) return s;  // short read: eofbit and failbit are set
+  value = v[0];
+  cell_.occupied = v[1];
+  cell_.free = v[2];
+  cell_.lambda = v[3];
+  if (!std::isfinite(value) || !isValidCell(cell_)) s.setstate(std::ios::failbit);
+  return s;
+}
+
+std::ostream& EvidentialOcTreeNode::writeData(std::ostream& s) const {
+  const float v[4] = {value, cell_.occupied, cell_.free, cell_.lambda};
+  return s.write(reinterpret_cast<const char*>(v), sizeof(v));
+}
+
+// ---- tree ---------------------------------------------------------------------------------------
+
+const std::string EvidentialOcTree::kTreeType = "EvidentialOcTree";
+
+EvidentialOcTree::StaticMemberInitializer::StaticMemberInitializer() {
+  auto* prototype = new EvidentialOcTree(0.1);  // owned by OctoMap's factory for the process
+  prototype->clearKeyRays();
+  AbstractOcTree::registerTreeType(prototype);
+}
+
+EvidentialOcTree::StaticMemberInitializer EvidentialOcTree::registration_;
+
+EvidentialOcTree::EvidentialOcTree(double resolution)
+    : OccupancyOcTreeBase<EvidentialOcTreeNode>(resolution) {
+  registration_.ensureLinking();
+}
+
+EvidentialOcTree::~EvidentialOcTree() = default;
+
+EvidentialOcTree* EvidentialOcTree::create() const { return new EvidentialOcTree(resolution); }
+
+std::string EvidentialOcTree::getTreeType() const { return kTreeType; }
+
+EvidentialOcTreeNode* EvidentialOcTree::setNodeCell(const octomap::OcTreeKey& key,
+                                                    const Cell& cell) {
+  // setNodeValue creates the path (lazily, no pruning) but clamps the value to OctoMap's
+  // clamping thresholds; setCell then stores the exact value with the masses.
+  EvidentialOcTreeNode* node = setNodeValue(key, occupancyLogOdds(cell), /*lazy_eval=*/true);
+  if (node != nullptr) node->setCell(cell);
+  return node;
+}
+
+void EvidentialOcTree::updateInnerNodes() {
+  if (root != nullptr) updateInnerNodesRecurs(root, 0);
+}
+
+void EvidentialOcTree::updateInnerNodesRecurs(EvidentialOcTreeNode* node, unsigned depth) {
+  if (!nodeHasChildren(node)) return;
+  const EvidentialOcTreeNode* most_occupied = nullptr;
+  for (unsigned i = 0; i < 8; ++i) {
+    if (!nodeChildExists(node, i)) continue;
+    EvidentialOcTreeNode* child = getNodeChild(node, i);
+    if (depth + 1 < tree_depth) updateInnerNodesRecurs(child, depth + 1);
+    if (most_occupied == nullptr || child->getLogOdds() > most_occupied->getLogOdds()) {
+      most_occupied = child;
+    }
+  }
+  node->copyData(*most_occupied);
+}
+
+bool EvidentialOcTree::readNodesRecurs(EvidentialOcTreeNode* node, unsigned depth, std::istream& s,
+                                       uint64_t max_nodes, uint64_t* count, std::string* error) {
+  if (!node->readData(s)) {
+    if (s.eof()) {
+      *error = "truncated: the data ends inside node " + std::to_string(*count);
+    } else {
+      char text[160];
+      std::snprintf(text, sizeof(text),
+                    "node %llu holds values no grid can hold (log-odds %g, m~(o) %g, m~(e) %g, "
+                    "lambda %g)",
+                    static_cast<unsigned long long>(*count), node->getLogOdds(),
+                    node->cell().occupied, node->cell().free, node->cell().lambda);
+      *error = text;
+    }
+    return false;
+  }
+  unsigned char children = 0;
+  s.read(reinterpret_cast<char*>(&children), 1);
+  if (!s) {
+    *error = "truncated: the data ends after node " + std::to_string(*count);
+    return false;
+  }
+  if (children != 0 && depth >= tree_depth) {
+    *error = "node " + std::to_string(*count) + " at the finest level (depth " +
+             std::to_string(tree_depth) + ") claims children";
+    return false;
+  }
+  for (unsigned i = 0; i < 8; ++i) {
+    if ((children & (1u << i)) == 0) continue;
+    if (*count >= max_nodes) {
+      *error = "the data holds more nodes than the " + std::to_string(max_nodes) +
+               " the header announces";
+      return false;
+    }
+    ++*count;
+    if (!readNodesRecurs(createNodeChild(node, i), depth + 1, s, max_nodes, count, error)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool EvidentialOcTree::readNodes(std::istream& s, uint64_t expected_nodes, std::string* error) {
+  std::string why;
+  clear();
+  if (expected_nodes > 0) {
+    root = new EvidentialOcTreeNode();
+    tree_size = 1;
+    size_changed = true;
+    uint64_t count = 1;
+    if (!readNodesRecurs(root, 0, s, expected_nodes, &count, &why)) {
+      clear();
+      if (error) *error = why;
+      return false;
+    }
+    tree_size = count;
+    if (count != expected_nodes) {
+      why = "the header announces " + std::to_string(expected_nodes) + " nodes, the data holds " +
+            std::to_string(count);
+    }
+  }
+  if (why.empty() && s.peek() != std::char_traits<char>::eof()) {
+    why = expected_nodes == 0 ? "the header announces an empty tree but data follows"
+                              : "unexpected bytes after the last node";
+  }
+  if (!why.empty()) {
+    clear();
+    if (error) *error = why;
+    return false;
+  }
+  return true;
+}
+
+std::istream& EvidentialOcTree::readData(std::istream& s) {
+  if (root != nullptr) {
+    OCTOMAP_ERROR_STR("Trying to read into an existing tree.");
+    s.setstate(std::ios::failbit);
+    return s;
+  }
+  root = new EvidentialOcTreeNode();
+  tree_size = 1;
+  size_changed = true;
+  uint64_t count = 1;
+  std::string why;
+  if (!readNodesRecurs(root, 0, s, std::numeric_limits<uint64_t>::max(), &count, &why)) {
+    clear();
+    OCTOMAP_ERROR_STR("Error reading " << kTreeType << ": " << why);
+    s.setstate(std::ios::failbit);
+    return s;
+  }
+  tree_size = count;
+  return s;
+}
+
+// ---- reader -------------------------------------------------------------------------------------
+
+namespace {
+
+constexpr size_t kMaxHeaderLine = 1024;
+constexpr int kMaxHeaderLines = 256;
+constexpr double kMinResolution = 1e-6;  // m; keeps 1 / resolution and the key math finite
+constexpr double kMaxResolution = 1e6;
+const std::string kOtMagic = "# Octomap OcTree file";
+const std::string kBtMagic = "# Octomap OcTree binary file";
+
+enum class Line { kOk, kEnd, kTooLong };
+
+// One header line without its '\n'; kEnd at end of stream before any character.
+Line readLine(std::istream& in, std::string* line) {
+  line->clear();
+  bool any = false;
+  for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+    any = true;
+    if (c == '\n') return Line::kOk;
+    if (line->size() >= kMaxHeaderLine) return Line::kTooLong;
+    line->push_back(static_cast<char>(c));
+  }
+  return any ? Line::kOk : Line::kEnd;
+}
+
+// A header word safe to print: printable ASCII only, at most 40 characters.
+std::string printable(const std::string& word) {
+  std::string out;
+  for (char c : word) {
+    if (out.size() >= 40) return out + "...";
+    out += (c >= 0x20 && c < 0x7f) ? c : '?';
+  }
+  return out;
+}
+
+struct Header {
+  std::string id;
+  bool has_size = false, has_res = false;
+  uint64_t size = 0;
+  double res = 0.0;
+};
+
+// OctoMap's header: the magic line, then `key value` lines (id, size, res), '#' comments, and
+// `data`, after which the binary node data starts. Unknown keys are skipped, as OctoMap does.
+bool readHeader(std::istream& in, Header* h, std::string* why) {
+  std::string line;
+  const Line first = readLine(in, &line);
+  if (first == Line::kEnd) {
+    *why = "empty file";
+    return false;
+  }
+  if (line.compare(0, kBtMagic.size(), kBtMagic) == 0) {
+    *why = "a binary OctoMap file (.bt: occupied/free only, no masses), not an " +
+           EvidentialOcTree::kTreeType + " .ot file";
+    return false;
+  }
+  if (first == Line::kTooLong || line.compare(0, kOtMagic.size(), kOtMagic) != 0) {
+    *why = "not an OctoMap .ot file (the first line is not '" + kOtMagic + "')";
+    return false;
+  }
+  for (int n = 0; n < kMaxHeaderLines; ++n) {
+    const Line status = readLine(in, &line);
+    if (status == Line::kEnd) {
+      *why = "truncated header: no 'data' line";
+      return false;
+    }
+    if (status == Line::kTooLong) {
+      *why = "corrupt header: a line longer than " + std::to_string(kMaxHeaderLine) + " bytes";
+      return false;
+    }
+    const size_t k0 = line.find_first_not_of(" \t\r");
+    if (k0 == std::string::npos || line[k0] == '#') continue;
+    const size_t k1 = std::min(line.find_first_of(" \t\r", k0), line.size());
+    const std::string key = line.substr(k0, k1 - k0);
+    const size_t v0 = std::min(line.find_first_not_of(" \t\r", k1), line.size());
+    const size_t v1 = std::min(line.find_first_of(" \t\r", v0), line.size());
+    const std::string value = line.substr(v0, v1 - v0);
+    if (key == "data") {
+      if (h->id.empty()) {
+        *why = "corrupt header: no tree 'id'";
+      } else if (h->id != EvidentialOcTree::kTreeType) {
+        *why = "holds an OctoMap '" + printable(h->id) + "', not an '" +
+               EvidentialOcTree::kTreeType + "' (no evidential masses)";
+      } else if (!h->has_res) {
+        *why = "corrupt header: no 'res'";
+      } else if (!h->has_size) {
+        *why = "corrupt header: no 'size'";
+      } else {
+        return true;
+      }
+      return false;
+    }
+    if (key == "id") {
+      h->id = value;
+    } else if (key == "size") {
+      const auto r = std::from_chars(value.data(), value.data() + value.size(), h->size);
+      if (r.ec != std::errc() || r.ptr != value.data() + value.size() || value.empty()) {
+        *why = "corrupt header: size '" + printable(value) + "' is not a node count";
+        return false;
+      }
+      h->has_size = true;
+    } else if (key == "res") {
+      const auto r = std::from_chars(value.data(), value.data() + value.size(), h->res);
+      if (r.ec != std::errc() || r.ptr != value.data() + value.size() || value.empty() ||
+          !(h->res >= kMinResolution && h->res <= kMaxResolution)) {
+        *why = "corrupt header: resolution '" + printable(value) + "' is not in [1e-6, 1e6] m";
+        return false;
+      }
+      h->has_res = true;
+    }
+  }
+  *why =
+      "corrupt header: no 'data' line in the first " + std::to_string(kMaxHeaderLines) + " lines";
+  return false;
+}
+
+}  // namespace
+
+bool readEvidentialOctree(std::istream& in, const std::string& name,
+                          std::unique_ptr<EvidentialOcTree>* tree, std::string* error) {
+  tree->reset();
+  const auto fail = [&](const std::string& why) {
+    if (error) *error = "'" + name + "': " + why;
+    return false;
+  };
+  try {
+    Header header;
+    std::string why;
+    if (!readHeader(in, &header, &why)) return fail(why);
+    // The factory creates the tree from the header's id, as AbstractOcTree::read does; the id was
+    // checked above, so no other tree type's (unchecked) reader runs on these bytes.
+    std::unique_ptr<octomap::AbstractOcTree> created(
+        octomap::AbstractOcTree::createTree(header.id, header.res));
+    auto* evidential = dynamic_cast<EvidentialOcTree*>(created.get());
+    if (evidential == nullptr) {
+      return fail(EvidentialOcTree::kTreeType +
+                  " is not registered with OctoMap's tree factory (library not loaded?)");
+    }
+    created.release();
+    std::unique_ptr<EvidentialOcTree> result(evidential);
+    if (!result->readNodes(in, header.size, &why)) return fail(why);
+    *tree = std::move(result);
+    return true;
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory while reading");
+  } catch (const std::exception& e) {
+    return fail(std::string("read error: ") + e.what());
+  }
+}
+
+bool readEvidentialOctree(const std::string& path, std::unique_ptr<EvidentialOcTree>* tree,
+                          std::string* error) {
+  tree->reset();
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) {
+    if (error) *error = "'" + path + "' does not exist";
+    return false;
+  }
+  if (fs::is_directory(status)) {
+    if (error) *error = "'" + path + "' is a directory";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    if (error) *error = "cannot open '" + path + "'";
+    return false;
+  }
+  return readEvidentialOctree(in, path, tree, error);
+}
+
+}  // namespace io
+}  // namespace evidential_slam

@@ -1,0 +1,156 @@
+// Statistics of an EvidentialOcTree and the comparison with layers/. See octomap_info.h.
+#include "evidential_slam/io/octomap_info.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <vector>
+
+#include "evidential_slam/io/npy.h"
+
+namespace evidential_slam {
+namespace io {
+
+OctreeStats computeOctreeStats(const EvidentialOcTree& tree) {
+  OctreeStats s;
+  s.resolution = tree.getResolution();
+  s.nodes = tree.size();
+  std::array<double, kLayerCount> sum{};
+  s.min.fill(std::numeric_limits<double>::max());
+  s.max.fill(std::numeric_limits<double>::lowest());
+  for (int l = 0; l < kLayerCount; ++l) {
+    s.layers[l].min = std::numeric_limits<double>::max();
+    s.layers[l].max = std::numeric_limits<double>::lowest();
+  }
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    ++s.leaves;
+    const unsigned level = tree.getTreeDepth() - it.getDepth();
+    const uint64_t side = uint64_t{1} << level;  // finest voxels per axis
+    const uint64_t count = side * side * side;
+    s.voxels += count;
+    if (tree.isNodeOccupied(*it)) s.occupied_voxels += count;
+    const octomap::OcTreeKey corner = it.getIndexKey();
+    for (uint64_t z = 0; z < side; ++z) s.voxels_per_z_key[corner[2] + z] += side * side;
+    const double half = 0.5 * it.getSize();
+    const double centre[3] = {it.getX(), it.getY(), it.getZ()};
+    for (int a = 0; a < 3; ++a) {
+      s.min[a] = std::min(s.min[a], centre[a] - half);
+      s.max[a] = std::max(s.max[a], centre[a] + half);
+    }
+    for (int l = 0; l < kLayerCount; ++l) {
+      const double v = layerValue(it->cell(), static_cast<Layer>(l));
+      s.layers[l].min = std::min(s.layers[l].min, v);
+      s.layers[l].max = std::max(s.layers[l].max, v);
+      sum[l] += v * static_cast<double>(count);
+    }
+  }
+  if (s.leaves == 0) {
+    s.min.fill(0.0);
+    s.max.fill(0.0);
+    s.layers.fill(LayerStats());
+    return s;
+  }
+  for (int l = 0; l < kLayerCount; ++l) s.layers[l].mean = sum[l] / static_cast<double>(s.voxels);
+  return s;
+}
+
+bool LayerComparison::identical(double tolerance) const {
+  if (missing_voxels != 0 || extra_voxels != 0 || cells == 0) return false;
+  return std::all_of(max_abs_diff.begin(), max_abs_diff.end(),
+                     [&](double d) { return d <= tolerance; });
+}
+
+namespace {
+
+// resolution and origin from the map.yaml the layer writer produces.
+bool readMapYaml(const std::string& path, double* resolution, double* origin_x, double* origin_y,
+                 std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot read '" + path + "'";
+    return false;
+  }
+  bool has_res = false, has_origin = false;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (std::sscanf(line.c_str(), "resolution: %lf", resolution) == 1) has_res = true;
+    if (std::sscanf(line.c_str(), "origin: [%lf, %lf", origin_x, origin_y) == 2) has_origin = true;
+  }
+  if (!has_res || !has_origin || !(*resolution > 0.0)) {
+    *error = "'" + path + "' lacks a resolution or origin";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool compareWithLayers(const EvidentialOcTree& tree, const OctreeStats& stats,
+                       const std::string& layers_dir, LayerComparison* comparison,
+                       std::string* error) {
+  *comparison = LayerComparison();
+  std::string why;
+  auto fail = [&](const std::string& w) {
+    if (error) *error = w;
+    return false;
+  };
+  double res = 0.0, origin_x = 0.0, origin_y = 0.0;
+  if (!readMapYaml(layers_dir + "/map.yaml", &res, &origin_x, &origin_y, &why)) return fail(why);
+  if (std::abs(res - tree.getResolution()) > 1e-9 * res) {
+    return fail("the layers' resolution differs from the tree's");
+  }
+  const Layer kMasses[4] = {Layer::kOccupied, Layer::kFree, Layer::kUnknown, Layer::kConflict};
+  std::vector<std::vector<float>> masses;
+  size_t rows = 0, cols = 0;
+  for (Layer l : kMasses) {
+    NpyArray a;
+    if (!readNpy(layers_dir + "/" + layerName(l) + ".npy", &a, &why)) return fail(why);
+    if (a.shape.size() != 2) return fail(layerName(l) + ".npy is not 2-D");
+    rows = a.shape[0];
+    cols = a.shape[1];
+    masses.push_back(a.asFloat32());
+    if (masses.back().size() != rows * cols) return fail(layerName(l) + ".npy is not float32");
+  }
+  NpyArray observed_npy;
+  if (!readNpy(layers_dir + "/observed.npy", &observed_npy, &why)) return fail(why);
+  const std::vector<uint8_t> observed = observed_npy.asUint8();
+  if (observed.size() != rows * cols) return fail("observed.npy does not match the layers");
+
+  // Cell (row, col) of the raster is grid cell (col0 + col, row0 + row), OctoMap key + 32768.
+  const long col0 = std::lround(origin_x / res), row0 = std::lround(origin_y / res);
+  uint64_t matched = 0;
+  for (size_t r = 0; r < rows; ++r) {
+    for (size_t c = 0; c < cols; ++c) {
+      const size_t i = r * cols + c;
+      if (!observed[i]) continue;
+      ++comparison->cells;
+      const long kx = col0 + static_cast<long>(c) + 32768, ky = row0 + static_cast<long>(r) + 32768;
+      for (const auto& [kz, count] : stats.voxels_per_z_key) {
+        (void)count;
+        ++comparison->voxels_checked;
+        const EvidentialOcTreeNode* node = nullptr;
+        if (kx >= 0 && kx <= 65535 && ky >= 0 && ky <= 65535) {
+          node = tree.search(octomap::OcTreeKey(
+              static_cast<uint16_t>(kx), static_cast<uint16_t>(ky), static_cast<uint16_t>(kz)));
+        }
+        if (node == nullptr) {
+          ++comparison->missing_voxels;
+          continue;
+        }
+        ++matched;
+        for (int m = 0; m < 4; ++m) {
+          const float value = static_cast<float>(layerValue(node->cell(), kMasses[m]));
+          comparison->max_abs_diff[m] = std::max(
+              comparison->max_abs_diff[m], std::abs(static_cast<double>(value) - masses[m][i]));
+        }
+      }
+    }
+  }
+  comparison->extra_voxels = stats.voxels - matched;
+  return true;
+}
+
+}  // namespace io
+}  // namespace evidential_slam

@@ -1,0 +1,108 @@
+// Shared bits of the OctoMap tests: a grid with every kind of cell, and running a program.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/mass.h"
+#include "test_util.h"
+
+namespace evidential_slam {
+namespace test {
+
+// A 0.05 m grid with free cells, walls, balanced and heavily conflicted cells, cells on both sides
+// of the origin and across tile borders, and unobserved holes. Deterministic.
+inline EvidentialGridMap makeTestGrid(double resolution = 0.05) {
+  EvidentialGridMap grid(resolution);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int y = -23; y < 19; ++y) {
+    for (int x = -37; x < 41; ++x) {
+      if ((x * 7 + y * 3) % 11 == 0) continue;  // unobserved holes
+      Cell& c = grid.mutableCell(x, y);
+      const int updates = 1 + static_cast<int>(u(rng) * 6);
+      for (int k = 0; k < updates; ++k) {
+        ScanMass s;
+        if (x == 30 || y == -20) {  // walls
+          s.occupied = 0.63f;
+        } else if (u(rng) < 0.15f) {  // noise
+          s.occupied = 0.5f * u(rng);
+          s.free = 0.4f * u(rng);
+        } else {
+          s.free = 0.8f;
+        }
+        updateCell(c, s);
+      }
+    }
+  }
+  // 2x2 blocks of identical free cells (prunable in a two-layer slab).
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 50; x < 54; ++x) updateCell(grid.mutableCell(x, y), ScanMass{0.0f, 0.8f});
+  }
+  // Contradicted many times: a large lambda.
+  Cell& conflicted = grid.mutableCell(-40, 25);
+  for (int k = 0; k < 2000; ++k)
+    updateCell(conflicted, ScanMass{k % 2 ? 0.63f : 0.0f, k % 2 ? 0.0f : 0.8f});
+  // Balanced evidence: BetP exactly 0.5.
+  grid.mutableCell(45, -10) = Cell{0.25f, 0.25f, 0.0f};
+  return grid;
+}
+
+struct Observed {
+  CellIndex index;
+  Cell cell;
+};
+
+inline std::vector<Observed> observedCells(const EvidentialGridMap& grid) {
+  std::vector<Observed> out;
+  const CellBox box = grid.observedBox();
+  for (int y = box.min_y; y <= box.max_y; ++y) {
+    for (int x = box.min_x; x <= box.max_x; ++x) {
+      if (grid.cell(x, y).observed()) out.push_back({{x, y}, grid.cell(x, y)});
+    }
+  }
+  return out;
+}
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Runs `program args...` with stdin from /dev/null; stdout and stderr are captured in files in
+// `scratch`, `cwd` (if set) is the working directory.
+inline RunResult runProgram(const std::string& program, const std::vector<std::string>& args,
+                            const std::filesystem::path& scratch,
+                            const std::map<std::string, std::string>& env = {},
+                            const std::string& cwd = "") {
+  std::string cmd;
+  if (!cwd.empty()) cmd += "cd " + shellQuote(cwd) + " && ";
+  for (const auto& [k, v] : env) cmd += k + "=" + shellQuote(v) + " ";
+  cmd += shellQuote(program);
+  for (const auto& a : args) cmd += " " + shellQuote(a);
+  const std::filesystem::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+  cmd += " > " + shellQuote(out.string()) + " 2> " + shellQuote(err.string()) + " < /dev/null";
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readText(out);
+  r.err = readText(err);
+  return r;
+}
+
+}  // namespace test
+}  // namespace evidential_slam
