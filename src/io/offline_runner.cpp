@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 
 #include "evidential_slam/core/layers.h"
@@ -67,6 +68,8 @@ class Run {
   RunSummary summary_;
   std::vector<StampedPose> truth_;
   std::vector<StampedPose> odometry_path_;
+  // One row per processed scan: its stamp and the conflict alarm's verdict.
+  std::vector<std::pair<double, ConflictAlarmState>> conflict_rows_;
   fs::path out_dir_;
   fs::path layers_dir_;
 };
@@ -75,6 +78,7 @@ int Run::execute() {
   const auto t0 = std::chrono::steady_clock::now();
   std::string why;
   if (!opt_.slam.isValid(&why)) return fail(kExitUsage, "invalid parameters: " + why);
+  if (!opt_.conflict_alarm.isValid(&why)) return fail(kExitUsage, "invalid parameters: " + why);
   if (opt_.export_octomap && !octomap_exporter_) {
     return fail(kExitUsage, "--export-octomap is not available in this program");
   }
@@ -128,6 +132,7 @@ int Run::execute() {
   if (!opt_.quiet) progress_ = std::make_unique<ProgressBar>(err_, total, tty_);
 
   SlamEngine engine(opt_.slam);
+  ConflictAlarm alarm(opt_.conflict_alarm);
   RawlogScan item;
   RawlogReader::Status status = RawlogReader::Status::kEnd;
   uint64_t given = 0;
@@ -143,6 +148,11 @@ int Run::execute() {
     slam_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
     ++given;
     odometry_path_.push_back({item.scan.stamp, item.odometry});
+    if (update.processed) {
+      const ConflictAlarmState state = alarm.update(update.external_conflict_added);
+      conflict_rows_.emplace_back(item.scan.stamp, state);
+      if (state.rising) summary_.conflict_alarm_stamps.push_back(item.scan.stamp);
+    }
     if (update.rejected) {
       const uint64_t rejected = engine.stats().scans_rejected;
       if (rejected <= kRejectionsShown) {
@@ -245,6 +255,26 @@ bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
   const std::string tum = (out_dir_ / "trajectory.tum").string();
   if (!writeTumTrajectory(tum, engine.bestTrajectory(), error)) return false;
   summary_.outputs.push_back("trajectory.tum");
+
+  const std::string csv = (out_dir_ / "conflict.csv").string();
+  {
+    std::ofstream f(csv);
+    f << "# per processed scan: stamp (s), external conflict it added to the best map (bits), the "
+         "alarm's running baseline (bits), their ratio, alarm (1 = above threshold)\n"
+      << "stamp,ec_added_bits,baseline_bits,ratio,alarm\n";
+    char line[160];
+    for (const auto& [stamp, st] : conflict_rows_) {
+      std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%d\n", stamp, st.added_bits,
+                    st.baseline_bits, st.ratio, st.alarm ? 1 : 0);
+      f << line;
+    }
+    f.close();
+    if (!f) {
+      if (error) *error = "cannot write '" + csv + "'";
+      return false;
+    }
+  }
+  summary_.outputs.push_back("conflict.csv");
 
   const LayerRaster raster = extractLayers(engine.bestMap());
   LayerWriteResult written;

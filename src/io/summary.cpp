@@ -47,6 +47,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["map_width"] = s.map_width;
   j["map_height"] = s.map_height;
   j["outputs"] = s.outputs;
+  j["conflict_alarms"] = s.conflict_alarm_stamps;
   if (s.octomap) {
     nlohmann::ordered_json o;
     o["files"] = s.octomap->files;

@@ -33,6 +33,11 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("resample_threshold", p.slam.resample_threshold, c.resample_threshold);
   visit("scan_matching", p.slam.matcher.enabled, c.scan_matching);
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
+  visit("conflict_alarm_enabled", p.conflict_alarm.enabled, c.conflict_alarm_enabled);
+  visit("conflict_alarm_factor", p.conflict_alarm.threshold_factor, c.conflict_alarm_factor);
+  visit("conflict_alarm_min_bits", p.conflict_alarm.min_bits, c.conflict_alarm_min_bits);
+  visit("conflict_alarm_baseline_scans", p.conflict_alarm.baseline_scans,
+        c.conflict_alarm_baseline_scans);
   visit("map_update_interval", p.map_update_interval, c.map_update_interval);
   visit("external_conflict_display_max", p.external_conflict_display_max,
         c.external_conflict_display_max);
@@ -46,6 +51,7 @@ bool NodeParams::isValid(std::string* why) const {
     return false;
   };
   if (!slam.isValid(why)) return false;
+  if (!conflict_alarm.isValid(why)) return false;
   if (!(laser_range_sigma >= 0.0) || !std::isfinite(laser_range_sigma)) {
     return fail("laser_range_sigma must be >= 0");
   }

@@ -3,10 +3,12 @@
 #include <filesystem>
 #include <system_error>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Path.h>
+#include <std_msgs/Float64.h>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "evidential_slam/core/layers.h"
@@ -63,6 +65,10 @@ void SlamNodelet::onInit() {
   };
   callbacks.on_warning = [this](const std::string& message, bool restarted) {
     if (restarted) {
+      {
+        std::lock_guard<std::mutex> alarm_lock(alarm_mutex_);
+        alarm_.reset();
+      }
       std::lock_guard<std::mutex> lock(transform_mutex_);
       have_transform_ = false;
       NODELET_WARN("%s", message.c_str());
@@ -84,6 +90,9 @@ void SlamNodelet::onInit() {
   pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10, true);
   particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
+  conflict_pub_ = private_nh_.advertise<std_msgs::Float64>("external_conflict_added", 100);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  alarm_.setConfig(params_.conflict_alarm);
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh_);
@@ -228,6 +237,7 @@ void SlamNodelet::onScanHandled(const SlamEngine& engine, const ScanUpdate& upda
   }
   ros::Time ros_stamp;
   ros_stamp.fromSec(stamp);
+  if (update.processed) reportConflict(update, ros_stamp);
 
   const PoseEstimate estimate = engine.poseEstimate();
   geometry_msgs::PoseWithCovarianceStamped pose;
@@ -263,6 +273,48 @@ void SlamNodelet::onScanHandled(const SlamEngine& engine, const ScanUpdate& upda
     }
     path_pub_.publish(path);
   }
+}
+
+void SlamNodelet::reportConflict(const ScanUpdate& update, const ros::Time& stamp) {
+  ConflictAlarmState state;
+  {
+    std::lock_guard<std::mutex> lock(alarm_mutex_);
+    state = alarm_.update(update.external_conflict_added);
+  }
+  std_msgs::Float64 added;
+  added.data = state.added_bits;
+  conflict_pub_.publish(added);
+
+  char message[200];
+  if (state.alarm) {
+    std::snprintf(message, sizeof(message),
+                  "localisation failure or environment change: the scan added %.1f bits of "
+                  "external conflict, %.1f x its running baseline (%.2f bits)",
+                  state.added_bits, state.ratio, state.baseline_bits);
+  } else {
+    std::snprintf(message, sizeof(message), "external conflict as usual");
+  }
+  if (state.rising) NODELET_WARN("%s (t = %.3f)", message, stamp.toSec());
+
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = stamp;
+  diagnostic_msgs::DiagnosticStatus status;
+  status.name = getName() + ": external conflict";
+  status.hardware_id = "evidential_slam";
+  status.level =
+      state.alarm ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK;
+  status.message = message;
+  auto value = [&status](const std::string& key, double v) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = key;
+    kv.value = std::to_string(v);
+    status.values.push_back(kv);
+  };
+  value("ec_added_bits", state.added_bits);
+  value("baseline_bits", state.baseline_bits);
+  value("ratio", state.ratio);
+  array.status.push_back(status);
+  diagnostics_pub_.publish(array);
 }
 
 void SlamNodelet::publishTransform(const ros::TimerEvent&) {
@@ -309,6 +361,10 @@ void SlamNodelet::onReconfigure(EvidentialSlamConfig& config, uint32_t) {
     params_ = next;
   }
   map_publisher_->setExternalConflictDisplayMax(next.external_conflict_display_max);
+  {
+    std::lock_guard<std::mutex> lock(alarm_mutex_);
+    alarm_.setConfig(next.conflict_alarm);
+  }
   if (interval_changed && map_timer_.isValid()) {
     map_timer_.setPeriod(ros::Duration(next.map_update_interval));
   }

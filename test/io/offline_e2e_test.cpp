@@ -149,6 +149,14 @@ TEST_F(OfflineE2E, ActionsSensoryFrameFixture) {
   EXPECT_EQ(j["seed"], 3);
   EXPECT_EQ(j["ate_matched"], kFixtureScans);
   EXPECT_GT(j["peak_rss_mb"].get<double>(), 1.0);
+  // conflict.csv: a header, then one row per processed scan; no alarm on a clean simulated log.
+  const std::string csv = test::readText(out / "conflict.csv");
+  size_t rows = 0;
+  for (size_t p = csv.find('\n'); p != std::string::npos; p = csv.find('\n', p + 1)) ++rows;
+  EXPECT_NE(csv.find("stamp,ec_added_bits,baseline_bits,ratio,alarm\n"), std::string::npos);
+  EXPECT_EQ(rows, 2 + j["scans_processed"].get<size_t>());  // comment, header, rows
+  ASSERT_TRUE(j.contains("conflict_alarms"));
+  EXPECT_TRUE(j["conflict_alarms"].empty()) << j["conflict_alarms"];
   // SLAM beats the drifting odometry by a wide margin.
   EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.15);
   EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.5 * j["odometry_ate_rmse_m"].get<double>());

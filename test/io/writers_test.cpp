@@ -339,7 +339,7 @@ TEST(LayerWriter, WritesMapServerPgmAndYamlPerLayer) {
     }
     const std::string yaml = test::readText(dir / (name + ".yaml"));
     const bool pignistic = name == "pignistic";
-    for (const std::string key :
+    for (const std::string& key :
          {"image: " + name + ".pgm\n", std::string("resolution: 0.05\n"),
           std::string("origin: [-1.25, 2.5, 0.0]\n"), std::string("negate: 0\n"),
           std::string(pignistic ? "mode: trinary\n" : "mode: scale\n"),

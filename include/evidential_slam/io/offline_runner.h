@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "evidential_slam/core/config.h"
+#include "evidential_slam/core/conflict_alarm.h"
 
 namespace evidential_slam {
 class EvidentialGridMap;
@@ -30,7 +31,8 @@ struct OfflineOptions {
   std::string out_dir;
   std::string ground_truth;  // optional `t x y phi` file
   std::string laser_label;   // optional: only scans with this sensor label
-  SlamConfig slam;           // core defaults; --particles/--seed/--resolution/--threads override
+  SlamConfig slam;
+  ConflictAlarmConfig conflict_alarm;  // per-scan EC alarm written to conflict.csv           // core defaults; --particles/--seed/--resolution/--threads override
   uint64_t max_scans = 0;    // 0 = all
   bool quiet = false;        // no progress line, no per-scan warnings
   double ate_max_dt = 0.05;  // s, timestamp association window for the ATE

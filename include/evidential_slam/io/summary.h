@@ -55,6 +55,8 @@ struct RunSummary {
   int map_height = 0;
   std::vector<std::string> outputs;         // files written, relative to the output directory
   std::optional<MapExportSummary> octomap;  // with --export-octomap
+  // Conflict alarm (conflict_alarm.h): stamps of the scans that raised a new alarm.
+  std::vector<double> conflict_alarm_stamps;
 };
 
 // Writes `summary` as pretty-printed JSON. False (and `error`) when the file cannot be written.

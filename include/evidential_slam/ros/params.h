@@ -9,12 +9,14 @@
 
 #include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/core/config.h"
+#include "evidential_slam/core/conflict_alarm.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
 
 struct NodeParams {
-  SlamConfig slam;  // core defaults (config.h)
+  SlamConfig slam;                     // core defaults (config.h)
+  ConflictAlarmConfig conflict_alarm;  // core defaults (conflict_alarm.h)
   // The laser's declared 1-σ range noise (m), given to every scan; 0 = unknown. LaserScan carries
   // no noise figure, so it is a parameter (MRPT rawlogs declare it: rawlog_player prints it).
   double laser_range_sigma = 0.0;

@@ -19,6 +19,7 @@
 #include <nav_msgs/GetMap.h>
 #include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/SaveMap.h"
+#include "evidential_slam/core/conflict_alarm.h"
 #include "evidential_slam/ros/map_publisher.h"
 #include "evidential_slam/ros/params.h"
 #include "evidential_slam/ros/slam_worker.h"
@@ -41,6 +42,7 @@ class SlamNodelet : public nodelet::Nodelet {
   void onScanHandled(const SlamEngine& engine, const ScanUpdate& update, double stamp);
   void onReconfigure(EvidentialSlamConfig& config, uint32_t level);
   void publishTransform(const ros::TimerEvent&);
+  void reportConflict(const ScanUpdate& update, const ros::Time& stamp);
   bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
   bool getMap(nav_msgs::GetMap::Request& request, nav_msgs::GetMap::Response& response);
 
@@ -55,6 +57,11 @@ class SlamNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
 
   ros::Publisher pose_pub_, particles_pub_, path_pub_;
+  // Conflict alarm: per processed scan, the EC it added (~external_conflict_added) and a
+  // diagnostic_msgs status on /diagnostics; a warning when a new alarm rises.
+  ros::Publisher conflict_pub_, diagnostics_pub_;
+  std::mutex alarm_mutex_;
+  ConflictAlarm alarm_;
   ros::ServiceServer save_map_srv_, get_map_srv_;
   ros::Timer map_timer_, tf_timer_;
   // The filter holds a scan until its tf arrives and says nothing meanwhile: this watchdog warns,

@@ -1,0 +1,67 @@
+#include "evidential_slam/core/conflict_alarm.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace evidential_slam {
+
+bool ConflictAlarmConfig::isValid(std::string* why) const {
+  auto fail = [why](const char* what) {
+    if (why != nullptr) *why = what;
+    return false;
+  };
+  if (baseline_scans < 1) return fail("conflict alarm baseline_scans must be >= 1");
+  if (warmup_scans < 0) return fail("conflict alarm warmup_scans must be >= 0");
+  if (!(threshold_factor > 1.0) || !std::isfinite(threshold_factor)) {
+    return fail("conflict alarm threshold_factor must be > 1");
+  }
+  if (!(min_bits >= 0.0) || !std::isfinite(min_bits)) {
+    return fail("conflict alarm min_bits must be >= 0");
+  }
+  return true;
+}
+
+ConflictAlarm::ConflictAlarm(const ConflictAlarmConfig& config) : config_(config) {}
+
+void ConflictAlarm::reset() {
+  window_.clear();
+  in_alarm_ = false;
+}
+
+void ConflictAlarm::setConfig(const ConflictAlarmConfig& config) {
+  config_ = config;
+  while (window_.size() > static_cast<size_t>(std::max(1, config_.baseline_scans))) {
+    window_.pop_front();
+  }
+}
+
+double ConflictAlarm::baseline() const {
+  if (window_.empty()) return 0.0;
+  std::vector<double> sorted(window_.begin(), window_.end());
+  const size_t mid = sorted.size() / 2;
+  std::nth_element(sorted.begin(), sorted.begin() + mid, sorted.end());
+  if (sorted.size() % 2 == 1) return sorted[mid];
+  const double upper = sorted[mid];
+  return 0.5 * (upper + *std::max_element(sorted.begin(), sorted.begin() + mid));
+}
+
+ConflictAlarmState ConflictAlarm::update(double added_bits) {
+  ConflictAlarmState s;
+  s.added_bits = std::isfinite(added_bits) ? std::max(0.0, added_bits) : 0.0;
+  s.baseline_bits = baseline();
+  s.ratio = s.baseline_bits > 0.0 ? s.added_bits / s.baseline_bits : 0.0;
+  const bool warm =
+      static_cast<int>(window_.size()) >= std::min(config_.warmup_scans, config_.baseline_scans);
+  s.alarm = config_.enabled && warm && s.added_bits > config_.min_bits &&
+            s.added_bits > config_.threshold_factor * s.baseline_bits;
+  s.rising = s.alarm && !in_alarm_;
+  in_alarm_ = s.alarm;
+  if (!s.alarm) {  // an alarming scan must not raise the baseline it is judged against
+    window_.push_back(s.added_bits);
+    while (window_.size() > static_cast<size_t>(config_.baseline_scans)) window_.pop_front();
+  }
+  return s;
+}
+
+}  // namespace evidential_slam
