@@ -16,8 +16,8 @@ bool ConflictAlarmConfig::isValid(std::string* why) const {
   if (!(threshold_factor > 1.0) || !std::isfinite(threshold_factor)) {
     return fail("conflict alarm threshold_factor must be > 1");
   }
-  if (!(min_bits >= 0.0) || !std::isfinite(min_bits)) {
-    return fail("conflict alarm min_bits must be >= 0");
+  if (!(min_added >= 0.0) || !std::isfinite(min_added)) {
+    return fail("conflict alarm min_added must be >= 0");
   }
   return true;
 }
@@ -46,19 +46,19 @@ double ConflictAlarm::baseline() const {
   return 0.5 * (upper + *std::max_element(sorted.begin(), sorted.begin() + mid));
 }
 
-ConflictAlarmState ConflictAlarm::update(double added_bits) {
+ConflictAlarmState ConflictAlarm::update(double added) {
   ConflictAlarmState s;
-  s.added_bits = std::isfinite(added_bits) ? std::max(0.0, added_bits) : 0.0;
-  s.baseline_bits = baseline();
-  s.ratio = s.baseline_bits > 0.0 ? s.added_bits / s.baseline_bits : 0.0;
+  s.added = std::isfinite(added) ? std::max(0.0, added) : 0.0;
+  s.baseline = baseline();
+  s.ratio = s.baseline > 0.0 ? s.added / s.baseline : 0.0;
   const bool warm =
       static_cast<int>(window_.size()) >= std::min(config_.warmup_scans, config_.baseline_scans);
-  s.alarm = config_.enabled && warm && s.added_bits > config_.min_bits &&
-            s.added_bits > config_.threshold_factor * s.baseline_bits;
+  s.alarm = config_.enabled && warm && s.added > config_.min_added &&
+            s.added > config_.threshold_factor * s.baseline;
   s.rising = s.alarm && !in_alarm_;
   in_alarm_ = s.alarm;
   if (!s.alarm) {  // an alarming scan must not raise the baseline it is judged against
-    window_.push_back(s.added_bits);
+    window_.push_back(s.added);
     while (window_.size() > static_cast<size_t>(config_.baseline_scans)) window_.pop_front();
   }
   return s;

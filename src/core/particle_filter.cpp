@@ -109,7 +109,8 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   const BeamModel* beam_model = &modelsFor(scan).beam;
   beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
   FilterStepInfo info;
-  info.best_conflict_added_bits = beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator);
+  info.best_conflict_added_bits = beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator,
+                                                            &info.best_conflict_mass_added);
   auto root = std::make_shared<PathNode>();
   root->pose = pose;
   root->step = step;
@@ -166,13 +167,15 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
 
   // 3. Weight and map update, once per group.
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
+  std::vector<double> conflict_mass(leaders.size(), 0.0);
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
     beam_model->traceScan(proposed[leaders[g]].compose(scan.sensor_pose), scan, &ws.traced);
     log_pl[g] =
         beam_model->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
-    conflict_added[g] = beam_model->integrateScan(ws.traced, &p.map, &ws.accumulator);
+    conflict_added[g] =
+        beam_model->integrateScan(ws.traced, &p.map, &ws.accumulator, &conflict_mass[g]);
   });
 
   // 4. Members take their leader's pose, map (shared tiles) and path node.
@@ -199,6 +202,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
 
   FilterStepInfo info;
   info.best_conflict_added_bits = conflict_added[group_of[bestIndex()]];
+  info.best_conflict_mass_added = conflict_mass[group_of[bestIndex()]];
   resampleIfNeeded(&info);
   return info;
 }

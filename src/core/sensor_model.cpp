@@ -39,14 +39,19 @@ void ScanAccumulator::reset(const CellIndex& center, int half_size) {
   }
 }
 
-double ScanAccumulator::applyTo(EvidentialGridMap* map) const {
-  double added = 0.0;
+double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added) const {
+  double added = 0.0, mass = 0.0;
   for (const Touched& t : touched_) {
     Cell& c = map->mutableCell(t.x, t.y);
     const float before = c.lambda;
     updateCell(c, t.mass);
     added += c.lambda - before;
+    // m(∅) = 1 - exp(-λ), so its increase is exp(-λ_before) - exp(-λ_after).
+    if (conflict_mass_added != nullptr && c.lambda != before) {
+      mass += std::exp(-static_cast<double>(before)) - std::exp(-static_cast<double>(c.lambda));
+    }
   }
+  if (conflict_mass_added != nullptr) *conflict_mass_added = mass;
   return added;
 }
 
@@ -213,7 +218,8 @@ void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
 }
 
 double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map,
-                                ScanAccumulator* scratch) const {
+                                ScanAccumulator* scratch, double* conflict_mass_added) const {
+  if (conflict_mass_added != nullptr) *conflict_mass_added = 0.0;
   if (traced.cells.empty()) return 0.0;
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
   const RayCell& first = traced.cells.front();
@@ -234,7 +240,7 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
     }
   }
   constexpr double kLn2 = 0.69314718055994530942;
-  return scratch->applyTo(map) / kLn2;
+  return scratch->applyTo(map, conflict_mass_added) / kLn2;
 }
 
 }  // namespace evidential_slam

@@ -69,7 +69,12 @@ class Run {
   std::vector<StampedPose> truth_;
   std::vector<StampedPose> odometry_path_;
   // One row per processed scan: its stamp and the conflict alarm's verdict.
-  std::vector<std::pair<double, ConflictAlarmState>> conflict_rows_;
+  struct ConflictRow {
+    double stamp;
+    double ec_bits;
+    ConflictAlarmState alarm;
+  };
+  std::vector<ConflictRow> conflict_rows_;
   fs::path out_dir_;
   fs::path layers_dir_;
 };
@@ -149,8 +154,8 @@ int Run::execute() {
     ++given;
     odometry_path_.push_back({item.scan.stamp, item.odometry});
     if (update.processed) {
-      const ConflictAlarmState state = alarm.update(update.external_conflict_added);
-      conflict_rows_.emplace_back(item.scan.stamp, state);
+      const ConflictAlarmState state = alarm.update(update.conflict_mass_added);
+      conflict_rows_.push_back({item.scan.stamp, update.external_conflict_added, state});
       if (state.rising) summary_.conflict_alarm_stamps.push_back(item.scan.stamp);
     }
     if (update.rejected) {
@@ -259,13 +264,14 @@ bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
   const std::string csv = (out_dir_ / "conflict.csv").string();
   {
     std::ofstream f(csv);
-    f << "# per processed scan: stamp (s), external conflict it added to the best map (bits), the "
-         "alarm's running baseline (bits), their ratio, alarm (1 = above threshold)\n"
-      << "stamp,ec_added_bits,baseline_bits,ratio,alarm\n";
+    f << "# per processed scan: stamp (s), the external conflict (bits) and the conflict mass m(0) "
+         "(summed over cells) it added to the best map, the alarm's running baseline of the "
+         "latter, their ratio, alarm (1 = above threshold)\n"
+      << "stamp,ec_added_bits,conflict_mass_added,baseline,ratio,alarm\n";
     char line[160];
-    for (const auto& [stamp, st] : conflict_rows_) {
-      std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%d\n", stamp, st.added_bits,
-                    st.baseline_bits, st.ratio, st.alarm ? 1 : 0);
+    for (const ConflictRow& r : conflict_rows_) {
+      std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", r.stamp, r.ec_bits,
+                    r.alarm.added, r.alarm.baseline, r.alarm.ratio, r.alarm.alarm ? 1 : 0);
       f << line;
     }
     f.close();

@@ -35,7 +35,7 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
   visit("conflict_alarm_enabled", p.conflict_alarm.enabled, c.conflict_alarm_enabled);
   visit("conflict_alarm_factor", p.conflict_alarm.threshold_factor, c.conflict_alarm_factor);
-  visit("conflict_alarm_min_bits", p.conflict_alarm.min_bits, c.conflict_alarm_min_bits);
+  visit("conflict_alarm_min_added", p.conflict_alarm.min_added, c.conflict_alarm_min_added);
   visit("conflict_alarm_baseline_scans", p.conflict_alarm.baseline_scans,
         c.conflict_alarm_baseline_scans);
   visit("map_update_interval", p.map_update_interval, c.map_update_interval);

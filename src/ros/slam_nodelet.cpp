@@ -90,7 +90,7 @@ void SlamNodelet::onInit() {
   pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10, true);
   particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
-  conflict_pub_ = private_nh_.advertise<std_msgs::Float64>("external_conflict_added", 100);
+  conflict_pub_ = private_nh_.advertise<std_msgs::Float64>("conflict_added", 100);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   alarm_.setConfig(params_.conflict_alarm);
 
@@ -279,18 +279,18 @@ void SlamNodelet::reportConflict(const ScanUpdate& update, const ros::Time& stam
   ConflictAlarmState state;
   {
     std::lock_guard<std::mutex> lock(alarm_mutex_);
-    state = alarm_.update(update.external_conflict_added);
+    state = alarm_.update(update.conflict_mass_added);
   }
   std_msgs::Float64 added;
-  added.data = state.added_bits;
+  added.data = state.added;
   conflict_pub_.publish(added);
 
   char message[200];
   if (state.alarm) {
     std::snprintf(message, sizeof(message),
-                  "localisation failure or environment change: the scan added %.1f bits of "
-                  "external conflict, %.1f x its running baseline (%.2f bits)",
-                  state.added_bits, state.ratio, state.baseline_bits);
+                  "localisation failure or environment change: the scan added %.1f of conflict "
+                  "mass (%.1f bits of external conflict), %.1f x its running baseline (%.2f)",
+                  state.added, update.external_conflict_added, state.ratio, state.baseline);
   } else {
     std::snprintf(message, sizeof(message), "external conflict as usual");
   }
@@ -310,8 +310,9 @@ void SlamNodelet::reportConflict(const ScanUpdate& update, const ros::Time& stam
     kv.value = std::to_string(v);
     status.values.push_back(kv);
   };
-  value("ec_added_bits", state.added_bits);
-  value("baseline_bits", state.baseline_bits);
+  value("conflict_mass_added", state.added);
+  value("ec_added_bits", update.external_conflict_added);
+  value("baseline", state.baseline);
   value("ratio", state.ratio);
   array.status.push_back(status);
   diagnostics_pub_.publish(array);

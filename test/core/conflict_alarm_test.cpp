@@ -11,7 +11,7 @@ ConflictAlarmConfig smallConfig() {
   c.baseline_scans = 5;
   c.warmup_scans = 3;
   c.threshold_factor = 4.0;
-  c.min_bits = 1.0;
+  c.min_added = 1.0;
   return c;
 }
 
@@ -26,14 +26,14 @@ TEST(ConflictAlarm, BaselineIsTheMedianOfRecentScans) {
   EXPECT_DOUBLE_EQ(alarm.baseline(), 5.0);  // the window keeps the last 5: {10, 3, 4, 5, 6}
 }
 
-// Baseline 2 bits: 7.9 stays quiet (< 4 x 2), 8.5 alarms and rises once, the next alarming scan
+// Baseline 2: 7.9 stays quiet (< 4 x 2), 8.5 alarms and rises once, the next alarming scan
 // does not rise again, and alarming scans do not enter the baseline.
 TEST(ConflictAlarm, FiresAboveFactorTimesBaseline) {
   ConflictAlarm alarm(smallConfig());
   for (int i = 0; i < 5; ++i) EXPECT_FALSE(alarm.update(2.0).alarm);
   ConflictAlarmState s = alarm.update(7.9);
   EXPECT_FALSE(s.alarm);
-  EXPECT_DOUBLE_EQ(s.baseline_bits, 2.0);
+  EXPECT_DOUBLE_EQ(s.baseline, 2.0);
   s = alarm.update(8.5);
   EXPECT_TRUE(s.alarm);
   EXPECT_TRUE(s.rising);
@@ -52,7 +52,7 @@ TEST(ConflictAlarm, QuietDuringWarmupBelowFloorAndWhenDisabled) {
   EXPECT_FALSE(alarm.update(100.0).alarm);  // warm-up: only 1 scan in the baseline
   ConflictAlarm tiny(smallConfig());
   for (int i = 0; i < 5; ++i) tiny.update(0.01);
-  EXPECT_FALSE(tiny.update(0.9).alarm);  // 90 x the baseline, but below min_bits
+  EXPECT_FALSE(tiny.update(0.9).alarm);  // 90 x the baseline, but below min_added
   EXPECT_TRUE(tiny.update(1.5).alarm);
   ConflictAlarmConfig off = smallConfig();
   off.enabled = false;

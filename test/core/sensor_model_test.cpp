@@ -352,8 +352,14 @@ TEST(IntegrateScanTest, DempsterWithinScanConjunctiveBetweenScans) {
   EXPECT_NEAR(map.cell(40, 0).occupied, 0.62554889, 1e-3);  // second beam's hit
   EXPECT_NEAR(map.cell(10, 0).free, 0.96, 1e-6);            // two clear masses: 0.8 + 0.2 * 0.8
 
-  const double added_bits = model.integrateScan(traced, &map, &scratch);
+  double mass_added = -1.0;
+  const double added_bits = model.integrateScan(traced, &map, &scratch, &mass_added);
   EXPECT_NEAR(map.cell(20, 0).lambda, 0.35718190, 5e-3);
+  // The map held no conflict before: the m(∅) added is all the m(∅) it holds now (cells 0..50).
+  double conflict_mass = 0.0;
+  for (int x = 0; x <= 50; ++x) conflict_mass += 1.0 - std::exp(-map.cell(x, 0).lambda);
+  EXPECT_NEAR(mass_added, conflict_mass, 1e-6);
+  EXPECT_GT(mass_added, 0.3);  // cell 20 alone: 1 - exp(-0.357) = 0.30
   EXPECT_NEAR(added_bits, 0.73323607, 0.02 * 0.73323607);
   EXPECT_NEAR(externalConflict(map.cell(10, 0)), 0.0, 1e-9);  // agreeing evidence: no conflict
 }

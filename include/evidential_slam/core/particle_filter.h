@@ -39,6 +39,7 @@ struct FilterStepInfo {
   bool resampled = false;
   double effective_sample_size = 0.0;
   double best_conflict_added_bits = 0.0;
+  double best_conflict_mass_added = 0.0;  // m(∅) the scan added to the best map, summed
 };
 
 class ParticleFilter {

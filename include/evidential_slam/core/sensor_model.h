@@ -63,8 +63,8 @@ class ScanAccumulator {
     return true;
   }
   // Applies every touched cell to `map` with the conjunctive rule; returns the external conflict
-  // added (nats, summed over cells).
-  double applyTo(EvidentialGridMap* map) const;
+  // added (nats, summed over cells) and, if asked, the conflict mass m(∅) added (summed).
+  double applyTo(EvidentialGridMap* map, double* conflict_mass_added = nullptr) const;
   size_t touched() const { return touched_.size(); }
 
  private:
@@ -104,14 +104,18 @@ class BeamModel {
   double beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
                           double z) const;
   // Σ log pl over the hit beams of a traced scan (every `stride`-th beam).
-  double scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced, int stride) const;
+  double scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced,
+                             int stride) const;
 
   // Traces every usable ray of `scan` from the sensor pose `sensor_in_map`.
   void traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const;
   // Inverse model of a traced scan, fused within the scan by Dempster's rule, into `map` by the
-  // conjunctive rule, each touched cell once. Returns the external conflict added (bits).
-  double integrateScan(const TracedScan& traced, EvidentialGridMap* map,
-                       ScanAccumulator* scratch) const;
+  // conjunctive rule, each touched cell once. Returns the external conflict added (bits) and, if
+  // asked, the conflict mass m(∅) added over the touched cells. EC is unbounded: a cell that
+  // already conflicts gains many bits from every contradicting scan; m(∅) stays in [0, 1] per
+  // cell, so its sum says how many cells newly conflict (the conflict alarm's input).
+  double integrateScan(const TracedScan& traced, EvidentialGridMap* map, ScanAccumulator* scratch,
+                       double* conflict_mass_added = nullptr) const;
 
   // Distance past the hit that a hit beam is traced (and its cells updated).
   double traceBeyondHit() const { return beyond_hit_; }
