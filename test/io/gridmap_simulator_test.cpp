@@ -1,4 +1,4 @@
-// The grid-map simulator (io/gridmap_simulator.h): laser
+// The grid-map simulator (io/gridmap_simulator.h) and its command line (io/simulate_args.h): laser
 // ranges against analytic distances in a synthetic room, odometry against the truth, the two
 // faults against an unfaulted run with the same seed, the rawlog read back through RawlogReader,
 // and clear one-line errors on bad input.
@@ -14,6 +14,7 @@
 #include "evidential_slam/io/gridmap_simulator.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/rawlog_reader.h"
+#include "evidential_slam/io/simulate_args.h"
 #include "test_util.h"
 
 namespace evidential_slam {
@@ -455,6 +456,67 @@ TEST(GridmapSimulator, DurationEndsARunWithoutWaypoints) {
   ASSERT_EQ(scans.size(), 21u);  // start_time, +0.1, ..., +2.0
   EXPECT_NEAR(scans.back().stamp, c.start_time + 2.0, 1e-9);
   EXPECT_NEAR(scans.back().true_pose.x, 0.2, 1e-9);
+}
+
+TEST(SimulateArgs, ParsesFaultsAndSettingsAndRefusesBadUsage) {
+  io::SimulateOptions o;
+  bool help = false;
+  std::string error;
+  ASSERT_TRUE(io::parseSimulateArgs(
+      {"--map", "m.png", "--waypoints", "w.txt", "--out=o.rawlog", "--seed", "7", "--kidnap",
+       "20,1.5,-2,0.5", "--moving-object", "5,8,-0.3,0.3,1.2", "--origin-x", "-3", "--range-noise",
+       "0.02", "--duration", "60", "--laser-rays", "181"},
+      &o, &help, &error))
+      << error;
+  EXPECT_FALSE(help);
+  EXPECT_EQ(o.config.map, "m.png");
+  EXPECT_EQ(o.config.waypoints, "w.txt");
+  EXPECT_EQ(o.out, "o.rawlog");
+  EXPECT_EQ(o.config.seed, 7);
+  EXPECT_DOUBLE_EQ(o.config.kidnap_time, 20.0);
+  EXPECT_DOUBLE_EQ(o.config.kidnap_dy, -2.0);
+  EXPECT_DOUBLE_EQ(o.config.kidnap_dtheta, 0.5);
+  EXPECT_DOUBLE_EQ(o.config.moving_object_bearing_min, -0.3);
+  EXPECT_DOUBLE_EQ(o.config.moving_object_distance, 1.2);
+  EXPECT_FALSE(o.config.map_centered);
+  EXPECT_DOUBLE_EQ(o.config.origin_x, -3.0);
+  EXPECT_DOUBLE_EQ(o.config.range_noise, 0.02);
+  EXPECT_DOUBLE_EQ(o.config.duration, 60.0);
+  EXPECT_EQ(o.config.laser_rays, 181);
+
+  const std::vector<std::string> base = {"--map", "m.png", "--waypoints", "w.txt", "--out", "o"};
+  auto refuse = [&](std::vector<std::string> extra, const std::string& contains) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    io::SimulateOptions options;
+    bool h = false;
+    std::string why;
+    EXPECT_FALSE(io::parseSimulateArgs(args, &options, &h, &why)) << contains;
+    expectOneLineError(why, contains);
+  };
+  refuse({"--kidnap", "1,2,3"}, "--kidnap wants T,DX,DY,DTH");
+  refuse({"--moving-object", "1,2,3,4,x"}, "--moving-object wants");
+  refuse({"--bogus"}, "unknown option '--bogus'");
+  refuse({"--seed"}, "--seed needs a value");
+  refuse({"--seed", "1.5"}, "--seed wants an integer");
+  refuse({"--linear-speed", "fast"}, "--linear-speed wants a number");
+  refuse({"--map-centered", "maybe"}, "wants true or false");
+  refuse({"--scan-period", "0"}, "scan_period must be > 0");
+  io::SimulateOptions options;
+  EXPECT_FALSE(io::parseSimulateArgs({"--map", "m.png", "--out", "o"}, &options, &help, &error));
+  expectOneLineError(error, "--waypoints is required");
+
+  EXPECT_TRUE(io::parseSimulateArgs({"--help"}, &options, &help, &error));
+  EXPECT_TRUE(help);
+  // The help documents every setting.
+  const std::string usage = io::simulateUsage("evidential_slam_simulate");
+  GridmapSimulatorConfig defaults;
+  for (const auto& field : io::gridmapSimulatorFields(&defaults)) {
+    std::string option = std::string("--") + field.name;
+    std::replace(option.begin(), option.end(), '_', '-');
+    EXPECT_NE(usage.find(option), std::string::npos) << option;
+  }
+  EXPECT_NE(usage.find("--kidnap T,DX,DY,DTH"), std::string::npos);
 }
 
 }  // namespace
