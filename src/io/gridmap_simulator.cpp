@@ -50,21 +50,33 @@ Pose2 unicycleIncrement(double v, double w, double dt) {
   return Pose2(r * std::sin(a), r * (1.0 - std::cos(a)), a);
 }
 
-// MRPT's map loaders print their exceptions (banner, message, location, call stack) to std::cerr
-// and return false. This keeps that text off the terminal; message() is its "Message:" part.
+// The "Message:" part of an MRPT exception text (which also holds a banner, a location and a call
+// stack); else its first non-empty line.
+std::string mrptMessage(const std::string& text) {
+  std::string message = text;
+  const size_t at = message.find("Message:");
+  if (at != std::string::npos) {
+    message = message.substr(at + 8);
+    message.resize(std::min(message.find('\n'), message.find("Location:")));
+  } else {
+    const size_t begin = message.find_first_not_of("\n");
+    message = begin == std::string::npos ? "" : message.substr(begin);
+    message.resize(std::min(message.size(), message.find('\n')));
+  }
+  const size_t begin = message.find_first_not_of(' ');
+  const size_t end = message.find_last_not_of(' ');
+  return begin == std::string::npos ? "" : message.substr(begin, end - begin + 1);
+}
+
+// MRPT's map loaders print their exceptions to std::cerr and return false. This keeps that text
+// off the terminal and for our own one-line error.
 class CerrCapture {
  public:
   CerrCapture() : old_(std::cerr.rdbuf(buffer_.rdbuf())) {}
   ~CerrCapture() { std::cerr.rdbuf(old_); }
   std::string message() const {
-    std::string text = buffer_.str();
-    const size_t at = text.find("Message:");
-    if (at == std::string::npos) return "";
-    text = text.substr(at + 8);
-    text.resize(std::min(text.find('\n'), text.find("Location:")));
-    const size_t begin = text.find_first_not_of(' ');
-    const size_t end = text.find_last_not_of(' ');
-    return begin == std::string::npos ? "" : text.substr(begin, end - begin + 1);
+    const std::string text = buffer_.str();
+    return text.find("Message:") == std::string::npos ? "" : mrptMessage(text);
   }
 
  private:
@@ -291,9 +303,7 @@ struct GridmapSimulator::Impl {
       }
     } catch (const std::exception& e) {
       ok = false;
-      detail = e.what();
-      const size_t cut = detail.find('\n');
-      if (cut != std::string::npos) detail.resize(cut);
+      detail = mrptMessage(e.what());
     }
     if (detail.empty()) detail = capture.message();
     if (!ok) {
