@@ -1,0 +1,523 @@
+// The grid-map simulator (io/gridmap_simulator.h) and its command line (io/simulate_args.h): laser
+// ranges against analytic distances in a synthetic room, odometry against the truth, the two
+// faults against an unfaulted run with the same seed, the rawlog read back through RawlogReader,
+// and clear one-line errors on bad input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/io/gridmap_simulator.h"
+#include "evidential_slam/io/ground_truth.h"
+#include "evidential_slam/io/rawlog_reader.h"
+#include "evidential_slam/io/simulate_args.h"
+#include "test_util.h"
+
+namespace evidential_slam {
+namespace {
+
+using io::GridmapSimulator;
+using io::GridmapSimulatorConfig;
+using io::SimulatedScan;
+namespace fs = std::filesystem;
+
+constexpr double kResolution = 0.05;
+constexpr int kRoomPixels = 200;  // 10 m x 10 m, centred: the map spans -5..5 m
+constexpr int kWallPixels = 4;    // inner wall faces at +-4.8 m
+constexpr double kInnerWall = 0.5 * kRoomPixels * kResolution - kWallPixels * kResolution;
+
+// A square room as a binary PGM: white inside, a black border kWallPixels thick.
+std::string writeRoom(const fs::path& dir) {
+  const fs::path path = dir / "room.pgm";
+  std::ofstream out(path, std::ios::binary);
+  out << "P5\n" << kRoomPixels << " " << kRoomPixels << "\n255\n";
+  for (int r = 0; r < kRoomPixels; ++r) {
+    for (int c = 0; c < kRoomPixels; ++c) {
+      const bool wall = r < kWallPixels || c < kWallPixels || r >= kRoomPixels - kWallPixels ||
+                        c >= kRoomPixels - kWallPixels;
+      out.put(static_cast<char>(wall ? 0 : 255));
+    }
+  }
+  return path.string();
+}
+
+std::string writeWaypoints(const fs::path& dir, const std::string& text) {
+  const fs::path path = dir / "waypoints.txt";
+  test::writeText(path, text);
+  return path.string();
+}
+
+// Room, cmd_vel mode, no noise at all.
+GridmapSimulatorConfig roomConfig(const fs::path& dir) {
+  GridmapSimulatorConfig c;
+  c.map = writeRoom(dir);
+  c.resolution = kResolution;
+  c.range_noise = 0.0;
+  c.bearing_noise = 0.0;
+  c.odometry_noise_xy = c.odometry_noise_theta = c.odometry_noise_theta_per_m = 0.0;
+  return c;
+}
+
+// Distance from (x, y) along `direction` to the room's inner wall faces.
+double distanceToRoomWall(double x, double y, double direction) {
+  const double cx = std::cos(direction), sy = std::sin(direction);
+  double t = 1e9;
+  if (cx > 1e-9) t = std::min(t, (kInnerWall - x) / cx);
+  if (cx < -1e-9) t = std::min(t, (-kInnerWall - x) / cx);
+  if (sy > 1e-9) t = std::min(t, (kInnerWall - y) / sy);
+  if (sy < -1e-9) t = std::min(t, (-kInnerWall - y) / sy);
+  return t;
+}
+
+std::vector<SimulatedScan> runAll(const GridmapSimulatorConfig& config, size_t max_scans,
+                                  double v = 0.0, double w = 0.0) {
+  GridmapSimulator sim(config);
+  std::string error;
+  EXPECT_TRUE(sim.load(&error)) << error;
+  sim.setVelocityCommand(v, w);
+  std::vector<SimulatedScan> scans;
+  SimulatedScan s;
+  while (scans.size() < max_scans && sim.step(&s)) scans.push_back(s);
+  return scans;
+}
+
+void expectPoseNear(const Pose2& a, const Pose2& b, double tolerance) {
+  EXPECT_NEAR(a.x, b.x, tolerance);
+  EXPECT_NEAR(a.y, b.y, tolerance);
+  EXPECT_NEAR(normalizeAngle(a.theta - b.theta), 0.0, tolerance);
+}
+
+TEST(GridmapSimulator, RangesMatchTheAnalyticDistanceToTheWalls) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.range_noise = 0.01;
+  c.laser_x = 0.3;  // the laser's mounting must be applied
+  c.start_x = -1.0;
+  c.start_y = 0.5;
+  c.start_theta = 0.4;
+  GridmapSimulator sim(c);
+  std::string error;
+  ASSERT_TRUE(sim.load(&error)) << error;
+  const Eigen::Vector4d bounds = sim.mapBounds();
+  EXPECT_NEAR(bounds[0], -5.0, 1e-6);
+  EXPECT_NEAR(bounds[3], 5.0, 1e-6);
+  SimulatedScan s;
+  ASSERT_TRUE(sim.step(&s));
+  ASSERT_EQ(s.scan.size(), 361u);
+  EXPECT_DOUBLE_EQ(s.stamp, c.start_time);
+  EXPECT_FLOAT_EQ(s.scan.range_sigma, 0.01f);
+  EXPECT_NEAR(s.scan.bearings.front(), -M_PI / 2, 1e-6);
+  EXPECT_NEAR(s.scan.bearings.back(), M_PI / 2, 1e-6);
+  const Pose2 sensor = Pose2(-1.0, 0.5, 0.4).compose(Pose2(0.3, 0.0, 0.0));
+  double sum = 0.0;
+  for (size_t i = 0; i < s.scan.size(); ++i) {
+    const double expected =
+        distanceToRoomWall(sensor.x, sensor.y, sensor.theta + s.scan.bearings[i]);
+    ASSERT_TRUE(s.scan.valid[i]) << "ray " << i;
+    // Noise (4 sigma) plus MRPT's ray casting, which samples every 0.8 cell along the ray.
+    EXPECT_NEAR(s.scan.ranges[i], expected, 4 * 0.01 + kResolution) << "ray " << i;
+    sum += s.scan.ranges[i] - expected;
+  }
+  // The casting stops at the first sample inside the wall: on average it overshoots by about half a
+  // sampling step, never by more than a cell.
+  const double bias = sum / s.scan.size();
+  EXPECT_GT(bias, 0.0);
+  EXPECT_LT(bias, kResolution);
+}
+
+TEST(GridmapSimulator, RaysBeyondMaxRangeAreNoReturnAndCloserOnesHit) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.laser_x = 0.0;
+  c.start_x = 3.5;
+  c.laser_max_range = 3.0;
+  const auto scans = runAll(c, 1);
+  ASSERT_EQ(scans.size(), 1u);
+  const LaserScan& s = scans[0].scan;
+  size_t checked_near_limit = 0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const double expected = distanceToRoomWall(3.5, 0.0, s.bearings[i]);
+    if (expected < 2.9) {
+      EXPECT_TRUE(s.valid[i]) << "ray " << i << " at " << expected << " m";
+      EXPECT_NEAR(s.ranges[i], expected, kResolution);
+      checked_near_limit += expected > 2.5;  // beyond MRPT's own 0.8 x max_range cut
+    } else if (expected > 3.1) {
+      EXPECT_FALSE(s.valid[i]) << "ray " << i << " at " << expected << " m";
+    }
+  }
+  EXPECT_GT(checked_near_limit, 5u);
+}
+
+TEST(GridmapSimulator, NoiselessOdometryEqualsTheTruthAlongAWaypointRoute) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.waypoints = writeWaypoints(dir,
+                               "# a square, then back to the middle\n"
+                               "-3 -3\n3 -3   # first leg\n\n3 3\n-3 3\n0 0\n");
+  const auto scans = runAll(c, 100000);
+  ASSERT_GT(scans.size(), 100u);
+  const Pose2 start = scans.front().true_pose;
+  EXPECT_NEAR(start.x, -3.0, 1e-9);
+  EXPECT_NEAR(start.y, -3.0, 1e-9);
+  EXPECT_NEAR(start.theta, 0.0, 1e-9);
+  for (size_t i = 0; i < scans.size(); ++i) {
+    EXPECT_NEAR(scans[i].stamp, c.start_time + i * c.scan_period, 1e-9);
+    expectPoseNear(scans[i].odometry, start.between(scans[i].true_pose), 1e-9);
+  }
+  // It got to the last waypoint, then stopped, within the speed limits.
+  EXPECT_LT(scans.back().true_pose.translation().norm(), c.waypoint_tolerance);
+  for (size_t i = 1; i < scans.size(); ++i) {
+    const double moved =
+        (scans[i].true_pose.translation() - scans[i - 1].true_pose.translation()).norm();
+    EXPECT_LE(moved, c.linear_speed * c.scan_period + 1e-9);
+  }
+  // Three 6 m legs and the 4.24 m diagonal (less the waypoint tolerances) at 0.5 m/s, plus four
+  // turns of at most 135 degrees at 0.8 rad/s.
+  const double took = scans.back().stamp - scans.front().stamp;
+  EXPECT_GT(took, 21.8 / c.linear_speed);
+  EXPECT_LT(took, 22.3 / c.linear_speed + 4 * 3.0);
+}
+
+TEST(GridmapSimulator, NoisyOdometryDriftsAndTheSeedFixesIt) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.odometry_noise_xy = 0.05;
+  c.odometry_noise_theta = 0.05;
+  c.odometry_noise_theta_per_m = 0.05;
+  c.range_noise = 0.02;
+  const auto a = runAll(c, 200, 0.3, 0.1);
+  const auto b = runAll(c, 200, 0.3, 0.1);
+  c.seed = 2;
+  const auto other = runAll(c, 200, 0.3, 0.1);
+  ASSERT_EQ(a.size(), 200u);
+  ASSERT_EQ(other.size(), 200u);
+  const Pose2 start = a.front().true_pose;
+  const double drift =
+      (a.back().odometry.translation() - start.between(a.back().true_pose).translation()).norm();
+  EXPECT_GT(drift, 1e-3);
+  for (size_t i = 0; i < a.size(); ++i) {
+    expectPoseNear(a[i].odometry, b[i].odometry, 0.0);
+    EXPECT_EQ(a[i].scan.ranges, b[i].scan.ranges);
+  }
+  EXPECT_NE(a.back().odometry.x, other.back().odometry.x);
+  EXPECT_NE(a.back().scan.ranges, other.back().scan.ranges);
+}
+
+TEST(GridmapSimulator, KidnapMovesTheTruthButNotTheOdometry) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.odometry_noise_xy = 0.02;  // with noise: both runs must draw the same odometry errors
+  c.range_noise = 0.01;
+  const auto plain = runAll(c, 80, 0.3, 0.05);
+  c.kidnap_time = c.start_time + 3.05;  // between two scans: the jump comes before the next one
+  c.kidnap_dx = 0.5;
+  c.kidnap_dy = -0.4;
+  c.kidnap_dtheta = 0.3;
+  const auto kidnapped = runAll(c, 80, 0.3, 0.05);
+  ASSERT_EQ(plain.size(), 80u);
+  ASSERT_EQ(kidnapped.size(), 80u);
+  size_t kidnap_scans = 0;
+  for (size_t i = 0; i < plain.size(); ++i) {
+    expectPoseNear(kidnapped[i].odometry, plain[i].odometry, 0.0);
+    const bool after = kidnapped[i].stamp >= c.kidnap_time;
+    const bool first_after = after && i > 0 && kidnapped[i - 1].stamp < c.kidnap_time;
+    EXPECT_EQ(kidnapped[i].kidnapped, first_after) << i;
+    if (!after) {
+      expectPoseNear(kidnapped[i].true_pose, plain[i].true_pose, 0.0);
+      EXPECT_EQ(kidnapped[i].scan.ranges, plain[i].scan.ranges);
+    } else if (kidnapped[i].kidnapped) {
+      ++kidnap_scans;
+      const Pose2& p = plain[i].true_pose;
+      expectPoseNear(kidnapped[i].true_pose, Pose2(p.x + 0.5, p.y - 0.4, p.theta + 0.3), 1e-9);
+      EXPECT_NE(kidnapped[i].scan.ranges, plain[i].scan.ranges);
+    }
+  }
+  EXPECT_EQ(kidnap_scans, 1u);
+  EXPECT_NEAR(kidnapped[31].stamp, c.start_time + 3.1, 1e-9);
+  EXPECT_TRUE(kidnapped[31].kidnapped);
+}
+
+TEST(GridmapSimulator, MovingObjectReplacesExactlyTheBearingWindowDuringItsInterval) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.range_noise = 0.01;
+  c.laser_rays = 181;  // 1 degree apart
+  const auto plain = runAll(c, 40, 0.2, 0.1);
+  c.moving_object_start = c.start_time + 1.0;
+  c.moving_object_end = c.start_time + 2.0;
+  c.moving_object_bearing_min = -0.2;  // rays between -11 and +11 degrees: 23 of them
+  c.moving_object_bearing_max = 0.2;
+  c.moving_object_distance = 0.8;
+  const auto with_object = runAll(c, 40, 0.2, 0.1);
+  ASSERT_EQ(with_object.size(), 40u);
+  size_t scans_with_object = 0;
+  for (size_t i = 0; i < plain.size(); ++i) {
+    const double t = with_object[i].stamp;
+    const bool during = t >= c.moving_object_start - 1e-9 && t <= c.moving_object_end + 1e-9;
+    EXPECT_EQ(with_object[i].moving_object, during) << i;
+    scans_with_object += during;
+    expectPoseNear(with_object[i].true_pose, plain[i].true_pose, 0.0);
+    size_t replaced = 0;
+    const LaserScan& s = with_object[i].scan;
+    for (size_t k = 0; k < s.size(); ++k) {
+      const bool in_window = s.bearings[k] >= -0.2 && s.bearings[k] <= 0.2;
+      if (during && in_window) {
+        ++replaced;
+        EXPECT_TRUE(s.valid[k]);
+        EXPECT_NEAR(s.ranges[k], 0.8, 4 * 0.01) << "scan " << i << " ray " << k;
+      } else {
+        EXPECT_EQ(s.ranges[k], plain[i].scan.ranges[k]) << "scan " << i << " ray " << k;
+        EXPECT_EQ(s.valid[k], plain[i].scan.valid[k]);
+      }
+    }
+    EXPECT_EQ(replaced, during ? 23u : 0u) << i;
+  }
+  EXPECT_EQ(scans_with_object, 11u);  // 1.0, 1.1, ..., 2.0 s after the start
+}
+
+TEST(GridmapSimulator, RawlogReadsBackWithTheSameScansOdometryAndGroundTruth) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c;
+  c.map = test::dataPath("sim_map.png");
+  c.waypoints = test::dataPath("sim_map_waypoints.txt");
+  c.laser_rays = 91;
+  c.scan_period = 0.25;
+  c.linear_speed = 1.0;
+  c.odometry_noise_xy = 0.05;
+  const std::string rawlog = (dir / "sim.rawlog").string();
+  io::SimulationSummary summary;
+  std::string error;
+  ASSERT_TRUE(io::simulateToRawlog(c, rawlog, &summary, &error)) << error;
+  EXPECT_GT(summary.path_length, 14.0);
+  EXPECT_GT(summary.odometry_error, 0.0);
+  const auto expected = runAll(c, 100000);
+  ASSERT_EQ(summary.scans, expected.size());
+
+  io::RawlogReader reader;
+  ASSERT_TRUE(reader.open(rawlog, &error)) << error;
+  io::RawlogScan item;
+  size_t n = 0;
+  io::RawlogReader::Status status;
+  while ((status = reader.next(&item)) == io::RawlogReader::Status::kScan) {
+    ASSERT_LT(n, expected.size());
+    const SimulatedScan& e = expected[n];
+    EXPECT_EQ(item.label, "LASER_SIM");
+    EXPECT_NEAR(item.scan.stamp, e.stamp, 1e-6);
+    expectPoseNear(item.odometry, e.odometry, 1e-6);
+    expectPoseNear(item.scan.sensor_pose, Pose2(0.2, 0.0, 0.0), 1e-9);
+    EXPECT_FLOAT_EQ(item.scan.range_sigma, 0.01f);
+    EXPECT_FLOAT_EQ(item.scan.max_range, 30.0f);
+    ASSERT_EQ(item.scan.size(), 91u);
+    for (size_t k = 0; k < item.scan.size(); ++k) {
+      EXPECT_FLOAT_EQ(item.scan.ranges[k], e.scan.ranges[k]);
+      EXPECT_NEAR(item.scan.bearings[k], e.scan.bearings[k], 1e-5);
+      EXPECT_EQ(item.scan.valid[k], e.scan.valid[k]);
+    }
+    ++n;
+  }
+  EXPECT_EQ(status, io::RawlogReader::Status::kEnd) << reader.message();
+  EXPECT_EQ(n, expected.size());
+  EXPECT_EQ(reader.format(), io::RawlogFormat::kActionsSensoryFrames);
+
+  // The ground truth: one `t x y phi` line per scan, the true poses.
+  const std::string gt_path = io::groundTruthPathFor(rawlog);
+  EXPECT_EQ(gt_path, rawlog + ".GT.txt");
+  const std::string text = test::readText(gt_path);
+  EXPECT_EQ(static_cast<size_t>(std::count(text.begin(), text.end(), '\n')), expected.size());
+  std::vector<StampedPose> truth;
+  ASSERT_TRUE(io::readGroundTruth(gt_path, &truth, &error)) << error;
+  ASSERT_EQ(truth.size(), expected.size());
+  for (size_t i = 0; i < truth.size(); ++i) {
+    EXPECT_NEAR(truth[i].stamp, expected[i].stamp, 1e-6);
+    expectPoseNear(truth[i].pose, expected[i].true_pose, 1e-6);
+  }
+
+  // Same seed, same bytes.
+  const std::string again = (dir / "again.rawlog").string();
+  ASSERT_TRUE(io::simulateToRawlog(c, again, nullptr, &error)) << error;
+  EXPECT_EQ(test::readText(again), test::readText(rawlog));
+  EXPECT_EQ(test::readText(again + ".GT.txt"), text);
+}
+
+TEST(GridmapSimulator, LoadsMapServerYamlAndExplicitOrigins) {
+  const fs::path dir = test::scratchDir();
+  const std::string pgm = writeRoom(dir);
+  test::writeText(dir / "room.yaml",
+                  "image: room.pgm\nresolution: 0.05\norigin: [-1.0, -2.0, 0.0]\nnegate: 0\n"
+                  "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  GridmapSimulatorConfig c;
+  c.map = (dir / "room.yaml").string();
+  GridmapSimulator from_yaml(c);
+  std::string error;
+  ASSERT_TRUE(from_yaml.load(&error)) << error;
+  Eigen::Vector4d b = from_yaml.mapBounds();
+  EXPECT_NEAR(b[0], -1.0, 1e-6);
+  EXPECT_NEAR(b[1], -2.0, 1e-6);
+  EXPECT_NEAR(b[2], 9.0, 1e-6);
+  EXPECT_NEAR(b[3], 8.0, 1e-6);
+
+  c.map = pgm;
+  c.map_centered = false;
+  c.origin_x = -1.0;
+  c.origin_y = -2.0;
+  c.resolution = 0.1;
+  GridmapSimulator from_image(c);
+  ASSERT_TRUE(from_image.load(&error)) << error;
+  b = from_image.mapBounds();
+  EXPECT_NEAR(b[0], -1.0, 1e-6);
+  EXPECT_NEAR(b[1], -2.0, 1e-6);
+  EXPECT_NEAR(b[2], 19.0, 1e-6);
+  EXPECT_NEAR(b[3], 18.0, 1e-6);
+  EXPECT_NEAR(from_image.mapResolution(), 0.1, 1e-6);  // MRPT keeps it as a float
+}
+
+void expectOneLineError(const std::string& error, const std::string& contains) {
+  EXPECT_NE(error.find(contains), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
+TEST(GridmapSimulator, BadInputGivesAOneLineError) {
+  const fs::path dir = test::scratchDir();
+  std::string error;
+  GridmapSimulatorConfig c = roomConfig(dir);
+
+  GridmapSimulatorConfig missing = c;
+  missing.map = (dir / "nowhere.png").string();
+  EXPECT_FALSE(GridmapSimulator(missing).load(&error));
+  expectOneLineError(error, "nowhere.png' does not exist");
+
+  GridmapSimulatorConfig not_an_image = c;
+  not_an_image.map = (dir / "text.png").string();
+  test::writeText(not_an_image.map, "this is not a PNG\n");
+  EXPECT_FALSE(GridmapSimulator(not_an_image).load(&error));
+  expectOneLineError(error, "cannot load map");
+
+  GridmapSimulatorConfig bad_yaml = c;
+  bad_yaml.map = (dir / "bad.yaml").string();
+  test::writeText(bad_yaml.map, "image: absent.pgm\nresolution: 0.05\n");
+  EXPECT_FALSE(GridmapSimulator(bad_yaml).load(&error));
+  expectOneLineError(error, "cannot load map");
+
+  GridmapSimulatorConfig garbage = c;
+  garbage.waypoints = writeWaypoints(dir, "1 2\n3 four\n");
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "line 2: expected two numbers");
+
+  garbage.waypoints = writeWaypoints(dir, "1 2 3\n4 5\n");
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "line 1");
+
+  garbage.waypoints = writeWaypoints(dir, "# only one\n1 2\n");
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "at least 2");
+
+  garbage.waypoints = (dir / "no_waypoints.txt").string();
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "no_waypoints.txt' does not exist");
+
+  GridmapSimulatorConfig invalid = c;
+  invalid.linear_speed = -1.0;
+  EXPECT_FALSE(GridmapSimulator(invalid).load(&error));
+  expectOneLineError(error, "invalid simulator configuration: linear_speed must be > 0");
+  invalid = c;
+  invalid.range_noise = std::nan("");
+  EXPECT_FALSE(invalid.isValid(&error));
+  expectOneLineError(error, "range_noise must be a finite number");
+  invalid = c;
+  invalid.moving_object_start = 5.0;
+  invalid.moving_object_end = 4.0;
+  EXPECT_FALSE(invalid.isValid(&error));
+  expectOneLineError(error, "moving_object_end");
+  invalid = c;
+  invalid.kidnap_time = 0.5;  // before start_time
+  EXPECT_FALSE(invalid.isValid(&error));
+  expectOneLineError(error, "kidnap_time");
+  EXPECT_TRUE(c.isValid(&error)) << error;
+
+  // A run nothing would end, and an unwritable output.
+  EXPECT_FALSE(io::simulateToRawlog(c, (dir / "x.rawlog").string(), nullptr, &error));
+  expectOneLineError(error, "give waypoints or a duration");
+  c.duration = 1.0;
+  EXPECT_FALSE(
+      io::simulateToRawlog(c, (dir / "no" / "dir" / "x.rawlog").string(), nullptr, &error));
+  expectOneLineError(error, "cannot write rawlog");
+  EXPECT_TRUE(io::simulateToRawlog(c, (dir / "x.rawlog").string(), nullptr, &error)) << error;
+}
+
+TEST(GridmapSimulator, DurationEndsARunWithoutWaypoints) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.duration = 2.0;
+  const auto scans = runAll(c, 1000, 0.1, 0.0);
+  ASSERT_EQ(scans.size(), 21u);  // start_time, +0.1, ..., +2.0
+  EXPECT_NEAR(scans.back().stamp, c.start_time + 2.0, 1e-9);
+  EXPECT_NEAR(scans.back().true_pose.x, 0.2, 1e-9);
+}
+
+TEST(SimulateArgs, ParsesFaultsAndSettingsAndRefusesBadUsage) {
+  io::SimulateOptions o;
+  bool help = false;
+  std::string error;
+  ASSERT_TRUE(io::parseSimulateArgs(
+      {"--map", "m.png", "--waypoints", "w.txt", "--out=o.rawlog", "--seed", "7", "--kidnap",
+       "20,1.5,-2,0.5", "--moving-object", "5,8,-0.3,0.3,1.2", "--origin-x", "-3", "--range-noise",
+       "0.02", "--duration", "60", "--laser-rays", "181"},
+      &o, &help, &error))
+      << error;
+  EXPECT_FALSE(help);
+  EXPECT_EQ(o.config.map, "m.png");
+  EXPECT_EQ(o.config.waypoints, "w.txt");
+  EXPECT_EQ(o.out, "o.rawlog");
+  EXPECT_EQ(o.config.seed, 7);
+  EXPECT_DOUBLE_EQ(o.config.kidnap_time, 20.0);
+  EXPECT_DOUBLE_EQ(o.config.kidnap_dy, -2.0);
+  EXPECT_DOUBLE_EQ(o.config.kidnap_dtheta, 0.5);
+  EXPECT_DOUBLE_EQ(o.config.moving_object_bearing_min, -0.3);
+  EXPECT_DOUBLE_EQ(o.config.moving_object_distance, 1.2);
+  EXPECT_FALSE(o.config.map_centered);
+  EXPECT_DOUBLE_EQ(o.config.origin_x, -3.0);
+  EXPECT_DOUBLE_EQ(o.config.range_noise, 0.02);
+  EXPECT_DOUBLE_EQ(o.config.duration, 60.0);
+  EXPECT_EQ(o.config.laser_rays, 181);
+
+  const std::vector<std::string> base = {"--map", "m.png", "--waypoints", "w.txt", "--out", "o"};
+  auto refuse = [&](std::vector<std::string> extra, const std::string& contains) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    io::SimulateOptions options;
+    bool h = false;
+    std::string why;
+    EXPECT_FALSE(io::parseSimulateArgs(args, &options, &h, &why)) << contains;
+    expectOneLineError(why, contains);
+  };
+  refuse({"--kidnap", "1,2,3"}, "--kidnap wants T,DX,DY,DTH");
+  refuse({"--moving-object", "1,2,3,4,x"}, "--moving-object wants");
+  refuse({"--bogus"}, "unknown option '--bogus'");
+  refuse({"--seed"}, "--seed needs a value");
+  refuse({"--seed", "1.5"}, "--seed wants an integer");
+  refuse({"--linear-speed", "fast"}, "--linear-speed wants a number");
+  refuse({"--map-centered", "maybe"}, "wants true or false");
+  refuse({"--scan-period", "0"}, "scan_period must be > 0");
+  io::SimulateOptions options;
+  EXPECT_FALSE(io::parseSimulateArgs({"--map", "m.png", "--out", "o"}, &options, &help, &error));
+  expectOneLineError(error, "--waypoints is required");
+
+  EXPECT_TRUE(io::parseSimulateArgs({"--help"}, &options, &help, &error));
+  EXPECT_TRUE(help);
+  // The help documents every setting.
+  const std::string usage = io::simulateUsage("evidential_slam_simulate");
+  GridmapSimulatorConfig defaults;
+  for (const auto& field : io::gridmapSimulatorFields(&defaults)) {
+    std::string option = std::string("--") + field.name;
+    std::replace(option.begin(), option.end(), '_', '-');
+    EXPECT_NE(usage.find(option), std::string::npos) << option;
+  }
+  EXPECT_NE(usage.find("--kidnap T,DX,DY,DTH"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace evidential_slam

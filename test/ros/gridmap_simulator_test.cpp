@@ -1,0 +1,176 @@
+// rostest for gridmap_simulator (gridmap_simulator.test): the simulator drives a short route
+// through test/data/sim_map.png on simulated time with noisy odometry and feeds the SLAM nodelet;
+// this node checks that scans, tf and the ground truth arrive, that ~done turns true, and that the
+// SLAM ends near the true pose while the odometry alone does not.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_msgs/Bool.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "evidential_slam/core/pose2.h"
+#include "evidential_slam/ros/conversions.h"
+
+namespace evidential_slam {
+namespace {
+
+struct Observed {
+  std::mutex mutex;
+  bool done = false;
+  size_t scans = 0;
+  double last_scan_stamp = 0.0;
+  size_t scan_rays = 0;
+  std::string scan_frame;
+  std::vector<geometry_msgs::PoseStamped> truth_poses;
+  nav_msgs::Path::ConstPtr truth_path;
+  geometry_msgs::PoseWithCovarianceStamped::ConstPtr slam_pose;
+};
+
+Observed* observed = nullptr;
+tf2_ros::Buffer* tf_buffer = nullptr;
+
+template <typename F>
+bool waitFor(F&& ready, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < deadline && ros::ok()) {
+    {
+      std::lock_guard<std::mutex> lock(observed->mutex);
+      if (ready()) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::lock_guard<std::mutex> lock(observed->mutex);
+  return ready();
+}
+
+double yawError(const Pose2& a, const Pose2& b) {
+  return std::abs(normalizeAngle(a.theta - b.theta));
+}
+
+TEST(GridmapSimulatorRos, DrivesTheRouteAndTheSlamEndsNearTheTruth) {
+  ASSERT_TRUE(waitFor([] { return observed->done; }, 180.0)) << "~done never turned true";
+  ASSERT_TRUE(
+      waitFor([] { return observed->truth_path && !observed->truth_path->poses.empty(); }, 10.0))
+      << "no ground-truth path";
+  Pose2 truth_end;
+  double last_stamp = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(observed->mutex);
+    const nav_msgs::Path& path = *observed->truth_path;
+    const size_t published = path.poses.size();
+    // The route is about 18.5 m at 0.5 m/s with 10 scans/s: some 390 scans.
+    EXPECT_GT(published, 300u);
+    EXPECT_GE(observed->scans, published - 5) << "scans were lost";
+    EXPECT_LE(observed->scans, published);
+    EXPECT_GE(observed->truth_poses.size(), published - 5);
+    EXPECT_LE(observed->truth_poses.size(), published);
+    EXPECT_EQ(observed->scan_rays, 361u);
+    EXPECT_EQ(observed->scan_frame, "laser");
+    EXPECT_EQ(path.header.frame_id, "map");
+    // The true path is moved so that the true start pose is the map origin.
+    const Pose2 start = ros_adapter::pose2FromPoseMsg(path.poses.front().pose);
+    EXPECT_NEAR(start.x, 0.0, 1e-6);
+    EXPECT_NEAR(start.y, 0.0, 1e-6);
+    EXPECT_NEAR(start.theta, 0.0, 1e-6);
+    truth_end = ros_adapter::pose2FromPoseMsg(path.poses.back().pose);
+    last_stamp = path.poses.back().header.stamp.toSec();
+    EXPECT_NEAR(observed->last_scan_stamp, last_stamp, 1e-6);
+    EXPECT_GT(truth_end.translation().norm(), 5.0);  // it went somewhere
+  }
+
+  // tf: the odometry at the last scan and the laser's mounting.
+  std::string error;
+  ASSERT_TRUE(tf_buffer->canTransform("odom", "base_link", ros::Time(last_stamp),
+                                      ros::Duration(5.0), &error))
+      << error;
+  const Pose2 odometry_end = ros_adapter::pose2FromTransform(
+      tf_buffer->lookupTransform("odom", "base_link", ros::Time(last_stamp)).transform);
+  ASSERT_TRUE(
+      tf_buffer->canTransform("base_link", "laser", ros::Time(0), ros::Duration(1.0), &error))
+      << error;
+  const Pose2 laser = ros_adapter::pose2FromTransform(
+      tf_buffer->lookupTransform("base_link", "laser", ros::Time(0)).transform);
+  EXPECT_NEAR(laser.x, 0.2, 1e-6);
+
+  // The SLAM's pose at the last scan, against the truth (both in the map frame, which starts at
+  // the first odometry pose).
+  ASSERT_TRUE(waitFor(
+      [&] {
+        return observed->slam_pose &&
+               std::abs(observed->slam_pose->header.stamp.toSec() - last_stamp) < 1e-3;
+      },
+      60.0))
+      << "the SLAM pose of the last scan never came";
+  Pose2 slam_end;
+  {
+    std::lock_guard<std::mutex> lock(observed->mutex);
+    slam_end = ros_adapter::pose2FromPoseMsg(observed->slam_pose->pose.pose);
+  }
+  const double slam_error = (slam_end.translation() - truth_end.translation()).norm();
+  const double odometry_error = (odometry_end.translation() - truth_end.translation()).norm();
+  RecordProperty("slam_end_error_m", std::to_string(slam_error));
+  RecordProperty("odometry_end_error_m", std::to_string(odometry_error));
+  // The simulated odometry (seed 3) drifts ~0.75 m; the SLAM must correct it.
+  EXPECT_GT(odometry_error, 0.4) << "the odometry is too good for this test to mean anything";
+  EXPECT_LT(slam_error, 0.25) << "SLAM " << slam_error << " m, odometry " << odometry_error << " m";
+  EXPECT_LT(yawError(slam_end, truth_end), 0.1);
+}
+
+}  // namespace
+}  // namespace evidential_slam
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "gridmap_simulator_test");
+  ros::NodeHandle nh;
+  evidential_slam::Observed obs;
+  evidential_slam::observed = &obs;
+  tf2_ros::Buffer buffer(ros::Duration(300.0));
+  tf2_ros::TransformListener listener(buffer);
+  evidential_slam::tf_buffer = &buffer;
+  auto done = nh.subscribe<std_msgs::Bool>("/gridmap_simulator/done", 1, [&](const auto& m) {
+    std::lock_guard<std::mutex> lock(obs.mutex);
+    obs.done = m->data;
+  });
+  auto scan = nh.subscribe<sensor_msgs::LaserScan>("/scan", 1000,
+                                                   [&](const sensor_msgs::LaserScan::ConstPtr& m) {
+                                                     std::lock_guard<std::mutex> lock(obs.mutex);
+                                                     ++obs.scans;
+                                                     obs.last_scan_stamp = m->header.stamp.toSec();
+                                                     obs.scan_rays = m->ranges.size();
+                                                     obs.scan_frame = m->header.frame_id;
+                                                   });
+  auto truth_pose = nh.subscribe<geometry_msgs::PoseStamped>(
+      "/ground_truth_pose", 1000, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.truth_poses.push_back(*m);
+      });
+  auto truth_path =
+      nh.subscribe<nav_msgs::Path>("/ground_truth", 1, [&](const nav_msgs::Path::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.truth_path = m;
+      });
+  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+      "/evidential_slam/pose", 10,
+      [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.slam_pose = m;
+      });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
