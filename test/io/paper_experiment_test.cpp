@@ -1,0 +1,45 @@
+// The paper experiment in its reduced form (scripts/reproduce-paper --quick): the world, the
+// simulation with a kidnap and a moving object, the SLAM, the figures and claims.json. Every
+// claim of the paper must hold, and the conflict alarm must flag the kidnap within 5 scans.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(PaperExperiment, ReducedRunHoldsEveryClaim) {
+  const fs::path out = fs::path(ES_TEST_TMP_DIR) / "paper_quick";
+  fs::remove_all(out);
+  const std::string command = std::string("SIM='") + ES_SIMULATE_BIN + "' OFFLINE='" +
+                              ES_OFFLINE_BIN + "' '" + ES_REPO_DIR +
+                              "/scripts/reproduce-paper' --quick --out '" + out.string() + "' > '" +
+                              out.string() + ".log' 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream log(out.string() + ".log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(status, 0) << text;
+  EXPECT_GT(fs::file_size(out / "fig4.png"), 10000u);
+  EXPECT_GT(fs::file_size(out / "fig5.png"), 10000u);
+  std::ifstream in(out / "claims.json");
+  const nlohmann::json claims = nlohmann::json::parse(in);
+  EXPECT_TRUE(claims["all_hold"].get<bool>()) << claims.dump(2);
+  for (const auto& [name, claim] : claims.items()) {
+    if (claim.is_object() && claim.contains("holds")) {
+      EXPECT_TRUE(claim["holds"].get<bool>()) << name << ": " << claim.dump(2);
+      RecordProperty(name, claim["holds"].get<bool>() ? "holds" : "fails");
+    }
+  }
+  const auto& alarm = claims["conflict_alarm"];
+  EXPECT_TRUE(alarm["kidnap_detected_within_5_scans"].get<bool>()) << alarm.dump(2);
+  EXPECT_LE(alarm["false_alarm_episodes"].get<int>(), 2) << alarm.dump(2);
+  RecordProperty("moving_object_alarm_scans", alarm["moving_object_alarm_scans"].get<int>());
+}
+
+}  // namespace
