@@ -15,8 +15,8 @@
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Bool.h>
+#include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/static_transform_broadcaster.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/rawlog_reader.h"
@@ -32,8 +32,8 @@ struct PlayerParams {
   std::string laser_label;   // optional: only this sensor
   double rate = 1.0;         // playback speed factor (sim time / wall time)
   double start_delay = 1.0;  // wall s before the first scan (subscribers connect)
-  // Wall s to wait, after start_delay, for a subscriber on `scan` (a SLAM still loading must not
-  // miss the first scans); 0 = do not wait.
+  // Wall s to wait, after start_delay, for subscribers on `scan` and `/tf` (a SLAM still loading
+  // must not miss the first scans); 0 = do not wait.
   double wait_for_subscriber = 10.0;
   double clock_step = 0.01;  // sim s between /clock messages
   std::string odom_frame = "odom";
@@ -87,6 +87,9 @@ class RawlogPlayer {
   RawlogPlayer(ros::NodeHandle nh, ros::NodeHandle pnh, PlayerParams params)
       : params_(std::move(params)) {
     scan_pub_ = nh.advertise<sensor_msgs::LaserScan>("scan", 100);
+    // The odometry tf, published here rather than through a TransformBroadcaster so that the
+    // player can wait for its subscribers too.
+    tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
     clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
     truth_pub_ = nh.advertise<nav_msgs::Path>("ground_truth", 1, true);
     done_pub_ = pnh.advertise<std_msgs::Bool>("done", 1, true);
@@ -113,7 +116,8 @@ class RawlogPlayer {
     ros::WallDuration(params_.start_delay).sleep();
     const ros::WallTime give_up =
         ros::WallTime::now() + ros::WallDuration(params_.wait_for_subscriber);
-    while (ros::ok() && scan_pub_.getNumSubscribers() == 0 && ros::WallTime::now() < give_up) {
+    while (ros::ok() && (scan_pub_.getNumSubscribers() == 0 || tf_pub_.getNumSubscribers() == 0) &&
+           ros::WallTime::now() < give_up) {
       ros::WallDuration(0.05).sleep();
     }
 
@@ -192,8 +196,10 @@ class RawlogPlayer {
     }
     advanceClockTo(item.scan.stamp);
     const ros::Time stamp(item.scan.stamp);
-    tf_broadcaster_.sendTransform(
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(
         stampedTransform(item.odometry, stamp, params_.odom_frame, params_.base_frame));
+    tf_pub_.publish(tf);
     scan_pub_.publish(msg);
     publishTruth(item.scan.stamp, item.odometry);
     return true;
@@ -224,8 +230,7 @@ class RawlogPlayer {
   }
 
   PlayerParams params_;
-  ros::Publisher scan_pub_, clock_pub_, truth_pub_, done_pub_;
-  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  ros::Publisher scan_pub_, clock_pub_, truth_pub_, done_pub_, tf_pub_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   std::vector<es::StampedPose> truth_;
   nav_msgs::Path truth_path_;

@@ -17,6 +17,7 @@ namespace fs = std::filesystem;
 TEST(PaperExperiment, ReducedRunHoldsEveryClaim) {
   const fs::path out = fs::path(ES_TEST_TMP_DIR) / "paper_quick";
   fs::remove_all(out);
+  fs::create_directories(out.parent_path());
   const std::string command = std::string("SIM='") + ES_SIMULATE_BIN + "' OFFLINE='" +
                               ES_OFFLINE_BIN + "' '" + ES_REPO_DIR +
                               "/scripts/reproduce-paper' --quick --out '" + out.string() + "' > '" +
