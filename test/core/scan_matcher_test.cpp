@@ -62,14 +62,14 @@ TEST_F(ScanMatcherTest, RefineRecoversPerturbedPose) {
   EXPECT_GE(matcher_.score(map_, refined, endpoints_), matcher_.score(map_, start, endpoints_));
 }
 
-// search() turns the start by up to ±heading_window: from 0.3 rad (17°) and 10 cm off, where ICP
-// alone stays caught, it comes back to the truth; without a window it is refine()'s ICP.
+// search() turns the start by up to ±heading_window: from 0.6 rad (34°) and 10 cm off, where ICP
+// alone stays caught, a window of 0.7 rad (a start 0.01 rad from the truth) brings it back.
 TEST_F(ScanMatcherTest, SearchRecoversLargeHeadingError) {
-  const Pose2 start(truth_.x + 0.1, truth_.y, truth_.theta + 0.3);
+  const Pose2 start(truth_.x + 0.1, truth_.y, truth_.theta + 0.6);
   const Pose2 icp_only = matcher_.refine(map_, start, endpoints_);
   EXPECT_GT(std::abs(normalizeAngle(icp_only.theta - truth_.theta)), 0.05);
   double score = 0.0;
-  const Pose2 found = matcher_.search(map_, start, endpoints_, 0.35, &score);
+  const Pose2 found = matcher_.search(map_, start, endpoints_, 0.7, &score);
   EXPECT_NEAR(found.x, truth_.x, 0.05);
   EXPECT_NEAR(found.y, truth_.y, 0.05);
   EXPECT_NEAR(normalizeAngle(found.theta - truth_.theta), 0.0, 0.03);
