@@ -6,7 +6,8 @@ For every log it runs
   mrpt-standard  rbpf-slam, standard proposal, K = 100  (bench/mrpt_standard_k100.ini)
   mrpt-optimal   rbpf-slam, optimal proposal,  K = 25   (bench/mrpt_optimal_k25.ini)
 and measures, from outside, the wall time and the peak RSS of the process (os.wait4 rusage), and
-the ATE of the estimated path against the ground truth ("t x y phi" per line, LOG.rawlog.GT.txt):
+the ATE of the estimated path against the ground truth ("t x y phi" per line, LOG.rawlog.GT.txt or
+LOG.GT.txt):
 association by timestamp (nearest within 0.05 s), best rigid 2-D alignment without scale
 (Umeyama/Kabsch), RMSE of the positions -- the same method for every method.
 
@@ -251,7 +252,8 @@ def ours_name(resolution):
     return "ours" if resolution is None else "ours-%gm" % resolution
 
 
-def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, resolution=None):
+def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, resolution=None,
+             preset=None):
     if os.path.isdir(run_dir):
         shutil.rmtree(run_dir)
     out_dir = os.path.join(run_dir, "out")
@@ -263,6 +265,8 @@ def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, res
         cmd += ["--threads", str(threads)]
     if resolution is not None:
         cmd += ["--resolution", str(resolution)]
+    if preset is not None:
+        cmd += ["--preset", preset]
     r = measured_run(cmd, run_dir)
     r.update(method=ours_name(resolution), seed=seed)
     if r["rc"] != 0:
@@ -308,12 +312,15 @@ def ratio(a, b):
     return None if a is None or b in (None, 0) else a / b
 
 
-def summarise(results):
+def summarise(results, durations):
     rows = []
     for log, methods in results.items():
         for method, info in methods.items():
             ok = [r for r in info["runs"] if "error" not in r]
+            wall = median([r["wall_time_s"] for r in ok])
             rows.append({
+                "duration_s": durations.get(log),
+                "speed_x": ratio(durations.get(log), wall),
                 "log": log, "method": method, "K": info["K"],
                 "runs_ok": len(ok), "runs": len(info["runs"]),
                 "wall_time_s": median([r["wall_time_s"] for r in ok]),
@@ -333,19 +340,20 @@ def summarise(results):
 def markdown(rows, runs, mrpt_path):
     out = []
     out.append("Medians of %d run(s) (seeds 1..%d). Wall time and peak RSS measured from outside "
-               "the process (os.wait4); ATE: timestamp association, rigid 2-D alignment, "
+               "the process (os.wait4); x real time: the log's duration (span of its ground-truth "
+               "stamps) over the wall time; ATE: timestamp association, rigid 2-D alignment, "
                "position RMSE. MRPT's path: %s." % (
                    runs, runs, "the particles' mean pose at every step" if mrpt_path == "mean"
                    else "the most likely particle's path"))
     out.append("")
-    out.append("| log | method | K | wall time s | peak RSS MB | ATE m |")
-    out.append("|---|---|---:|---:|---:|---:|")
+    out.append("| log | method | K | wall time s | x real time | peak RSS MB | ATE m |")
+    out.append("|---|---|---:|---:|---:|---:|---:|")
     for r in rows:
         note = "" if r["runs_ok"] == r["runs"] else " (%d/%d runs failed)" % (
             r["runs"] - r["runs_ok"], r["runs"])
-        out.append("| %s | %s%s | %d | %s | %s | %s |" % (
+        out.append("| %s | %s%s | %d | %s | %s | %s | %s |" % (
             r["log"], r["method"], note, r["K"], fmt(r["wall_time_s"], 1),
-            fmt(r["peak_rss_mb"], 0), fmt(r["ate_m"], 3)))
+            fmt(r["speed_x"], 1), fmt(r["peak_rss_mb"], 0), fmt(r["ate_m"], 3)))
     by = {(r["log"], r["method"]): r for r in rows}
     logs = list(dict.fromkeys(r["log"] for r in rows))
     ratio_lines = []
@@ -395,8 +403,8 @@ def parse_args(argv):
                    "the table shows medians (default 1)")
     p.add_argument("--logs", default=",".join(DEFAULT_LOGS),
                    help="comma-separated log names (NAME.rawlog in --data-dir) or paths to "
-                        ".rawlog files; ground truth is FILE.GT.txt when present "
-                        "(default %(default)s)")
+                        ".rawlog files; ground truth is LOG.rawlog.GT.txt or LOG.GT.txt when "
+                        "present; MRPT reads LOG.sf.rawlog when present (default %(default)s)")
     p.add_argument("--data-dir", default=DEFAULT_DATA_DIR,
                    help="directory of the logs (default %(default)s)")
     only = p.add_mutually_exclusive_group()
@@ -409,6 +417,9 @@ def parse_args(argv):
     p.add_argument("--resolutions", dest="resolutions_text", default="", metavar="LIST",
                    help="comma-separated grid resolutions (m) to run ours at, each its own row, "
                         "e.g. 'default,0.1' (default: the runner's default only)")
+    p.add_argument("--preset", choices=["sim", "real"], default=None,
+                   help="our --preset: 'real' for real robots' logs such as the Radish ones "
+                        "(default: the runner's default, sim)")
     p.add_argument("--threads", type=int, default=None,
                    help="our --threads (default: the runner's default, all cores)")
     p.add_argument("--offline", default=DEFAULT_OFFLINE,
@@ -456,14 +467,26 @@ def resolve_log(name, data_dir):
     label = os.path.basename(path)
     if label.endswith(".rawlog"):
         label = label[:-len(".rawlog")]
-    gt = path + ".GT.txt"
-    return label, os.path.abspath(path), (os.path.abspath(gt) if os.path.exists(gt) else None)
+    # Ground truth: LOG.rawlog.GT.txt (MRPT's datasets) or LOG.GT.txt (the Radish logs).
+    gt = next((g for g in (path + ".GT.txt", path[:-len(".rawlog")] + ".GT.txt")
+               if path.endswith(".rawlog") and os.path.exists(g)), None)
+    # rbpf-slam crashes on observation-only rawlogs: it reads LOG.sf.rawlog (the same data as
+    # actions + sensory frames) when there is one.
+    sf = path[:-len(".rawlog")] + ".sf.rawlog" if path.endswith(".rawlog") else None
+    mrpt_rawlog = os.path.abspath(sf) if sf and os.path.exists(sf) else os.path.abspath(path)
+    return (label, os.path.abspath(path), (os.path.abspath(gt) if gt else None),
+            mrpt_rawlog)
+
+
+def log_duration(gt):
+    """The log's real duration (s): the span of its ground-truth stamps (one per scan)."""
+    return gt[-1][0] - gt[0][0] if gt and len(gt) > 1 else None
 
 
 def main(argv):
     a = parse_args(argv)
     logs = [resolve_log(n.strip(), a.data_dir) for n in a.logs.split(",") if n.strip()]
-    missing = [p for _, p, _ in logs if not os.path.isfile(p)]
+    missing = [p for _, p, _, _ in logs if not os.path.isfile(p)]
     if missing:
         sys.exit("benchmark: log not found: %s" % ", ".join(missing))
     run_ours_ = not a.mrpt_only
@@ -484,21 +507,23 @@ def main(argv):
     if run_mrpt_:
         methods.extend(MRPT_METHODS)
 
-    results = {label: {m: {"K": k, "runs": []} for m, k, _ in methods} for label, _, _ in logs}
-    gts = {label: (read_ground_truth(gt) if gt else None) for label, _, gt in logs}
+    results = {label: {m: {"K": k, "runs": []} for m, k, _ in methods} for label, _, _, _ in logs}
+    gts = {label: (read_ground_truth(gt) if gt else None) for label, _, gt, _ in logs}
+    durations = {label: log_duration(gts[label]) for label in gts}
     failures = 0
     for run in range(1, a.runs + 1):
-        for label, rawlog, gt_path in logs:
+        for label, rawlog, gt_path, mrpt_rawlog in logs:
             gt = gts[label]
             for method, k, ini in methods:
                 run_dir = os.path.join(out, "runs", label, method, "run%d" % run)
                 print("[benchmark] run %d/%d  %-22s %-14s K=%-3d ..." % (
                     run, a.runs, label, method, k), end="", flush=True)
                 if method.startswith("ours"):
-                    r = run_ours(a.offline, rawlog, gt_path, gt, run_dir, run, k, a.threads, ini)
+                    r = run_ours(a.offline, rawlog, gt_path, gt, run_dir, run, k, a.threads, ini,
+                                 a.preset)
                 else:
-                    r = run_mrpt(method, ini, rawlog, gt, run_dir, run, a.overrides, a.rbpf_slam,
-                                 a.mrpt_path)
+                    r = run_mrpt(method, ini, mrpt_rawlog, gt, run_dir, run, a.overrides,
+                                 a.rbpf_slam, a.mrpt_path)
                 results[label][method]["runs"].append(r)
                 if "error" in r:
                     failures += 1
@@ -509,7 +534,7 @@ def main(argv):
                     if "warning" in r:
                         print("    warning: " + r["warning"], flush=True)
 
-    rows = summarise(results)
+    rows = summarise(results, durations)
     md = markdown(rows, a.runs, a.mrpt_path)
     record = {
         "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
@@ -520,7 +545,8 @@ def main(argv):
                 "mrpt_path": a.mrpt_path,
                 "ours_path": "trajectory.tum"},
         "mrpt_overrides": dict(a.overrides),
-        "logs": {label: {"rawlog": p, "ground_truth": g} for label, p, g in logs},
+        "logs": {label: {"rawlog": p, "mrpt_rawlog": m, "ground_truth": g,
+                         "duration_s": durations[label]} for label, p, g, m in logs},
         "summary": rows,
         "results": results,
     }

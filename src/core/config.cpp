@@ -80,6 +80,10 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
       .require(beam_stride >= 1, "matcher beam_stride must be >= 1")
       .require(min_match_fraction >= 0.0 && min_match_fraction <= 1.0,
                "matcher min_match_fraction must be in [0, 1]")
+      .require(nonNegativeFinite(heading_window) && heading_window <= M_PI,
+               "matcher heading_window must be in [0, pi] rad")
+      .require(positiveFinite(heading_step) && heading_step >= 0.005,
+               "matcher heading_step must be >= 0.005 rad")
       .ok();
 }
 
@@ -113,5 +117,7 @@ bool SlamConfig::isValid(std::string* why) const {
   }
   return sensor.isValid(why) && motion.isValid(why) && matcher.isValid(why);
 }
+
+void applyRealRobotPreset(SlamConfig* config) { config->matcher.heading_window = 0.35; }
 
 }  // namespace evidential_slam

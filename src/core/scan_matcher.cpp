@@ -167,24 +167,51 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
   return current;
 }
 
-Pose2 ScanMatcher::refine(const EvidentialGridMap& map, const Pose2& initial,
-                          const std::vector<MatchPoint>& pts) const {
-  if (pts.empty()) return initial;
-  Pose2 pose = initial;
+bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
+                      Pose2* pose) const {
   for (int it = 0; it < config_.icp_iterations; ++it) {
-    const Pose2 before = pose;
-    if (!icpStep(map, pts, &pose)) {
-      if (it == 0) return initial;  // the map does not explain this scan (yet)
-      pose = before;
-      break;
+    const Pose2 before = *pose;
+    if (!icpStep(map, pts, pose)) {
+      *pose = before;
+      return it > 0;  // at the first step: the map does not explain this scan (yet)
     }
-    const Pose2 change = before.between(pose);
+    const Pose2 change = before.between(*pose);
     if (std::hypot(change.x, change.y) < kConvergedTranslation &&
         std::abs(change.theta) < kConvergedRotation) {
       break;
     }
   }
+  return true;
+}
+
+Pose2 ScanMatcher::refine(const EvidentialGridMap& map, const Pose2& initial,
+                          const std::vector<MatchPoint>& pts) const {
+  if (pts.empty()) return initial;
+  Pose2 pose = initial;
+  if (!icp(map, pts, &pose)) return initial;
   return config_.max_iterations > 0 ? hillClimb(map, pose, pts) : pose;
+}
+
+Pose2 ScanMatcher::search(const EvidentialGridMap& map, const Pose2& predicted,
+                          const std::vector<MatchPoint>& pts, double heading_window,
+                          double* best_score_out) const {
+  *best_score_out = -1.0;
+  if (pts.empty()) return predicted;
+  const int n = static_cast<int>(std::floor(heading_window / config_.heading_step + 1e-9));
+  Pose2 best = predicted;
+  double best_score = -1.0;
+  for (int i = 0; i <= 2 * n; ++i) {
+    const int k = (i + 1) / 2 * (i % 2 == 1 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
+    Pose2 pose(predicted.x, predicted.y, predicted.theta + k * config_.heading_step);
+    if (!icp(map, pts, &pose)) continue;
+    const double s = score(map, pose, pts);
+    if (s > best_score) {
+      best_score = s;
+      best = pose;
+    }
+  }
+  *best_score_out = best_score;
+  return best;
 }
 
 }  // namespace evidential_slam

@@ -90,6 +90,7 @@ int Run::execute() {
 
   summary_.rawlog = opt_.rawlog;
   summary_.ground_truth = opt_.ground_truth;
+  summary_.preset = opt_.preset;
   summary_.particles = opt_.slam.particles;
   summary_.resolution = opt_.slam.resolution;
   summary_.seed = opt_.slam.seed;
@@ -324,8 +325,9 @@ double peakRssMb() {
 
 std::string offlineUsage(const std::string& program) {
   return "usage: " + program +
-         " --rawlog FILE --out DIR [--ground-truth GT.txt] [--particles K] [--seed N]\n"
-         "       [--resolution M] [--threads N] [--max-scans N] [--laser-label L] [--quiet]\n"
+         " --rawlog FILE --out DIR [--ground-truth GT.txt] [--preset sim|real] [--particles K]\n"
+         "       [--seed N] [--resolution M] [--threads N] [--max-scans N] [--laser-label L]\n"
+         "       [--quiet]\n"
          "       [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
          "\n"
          "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
@@ -335,6 +337,9 @@ std::string offlineUsage(const std::string& program) {
          "  --rawlog FILE         input rawlog (.rawlog, gzip or plain)\n"
          "  --out DIR             output directory (created)\n"
          "  --ground-truth FILE   `t x y phi` per line; adds the ATE to summary.json\n"
+         "  --preset P            sim: defaults sized on simulated odometry (default); real:\n"
+         "                        for real wheel odometry (each hypothesis matched over +-20 deg\n"
+         "                        of heading and with the translation missed or reversed)\n"
          "  --particles K         number of particles (default 100)\n"
          "  --seed N              random seed (default 1)\n"
          "  --resolution M        map cell size in metres (default 0.05)\n"
@@ -385,10 +390,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       o->export_octomap = true;
       continue;
     }
-    static const char* kValued[] = {"--rawlog",        "--out",          "--ground-truth",
-                                    "--particles",     "--seed",         "--resolution",
-                                    "--threads",       "--max-scans",    "--laser-label",
-                                    "--octomap-z-min", "--octomap-z-max"};
+    static const char* kValued[] = {"--rawlog",      "--out",           "--ground-truth",
+                                    "--preset",      "--particles",     "--seed",
+                                    "--resolution",  "--threads",       "--max-scans",
+                                    "--laser-label", "--octomap-z-min", "--octomap-z-max"};
     bool known = false;
     for (const char* k : kValued) known = known || flag == k;
     if (!known) return bad("unknown option '" + args[i] + "'");
@@ -404,6 +409,9 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       o->ground_truth = value;
     } else if (flag == "--laser-label") {
       o->laser_label = value;
+    } else if (flag == "--preset") {
+      if (value != "sim" && value != "real") return bad("--preset wants 'sim' or 'real'");
+      o->preset = value;
     } else if (flag == "--particles") {
       int k = 0;
       if (!parseNumber(value, &k) || k < 1) return bad("--particles wants an integer >= 1");
@@ -435,6 +443,7 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       z_given = true;
     }
   }
+  if (o->preset == "real") applyRealRobotPreset(&o->slam);
   if (o->rawlog.empty()) return bad("--rawlog is required");
   if (o->out_dir.empty()) return bad("--out is required");
   if (z_given && !o->export_octomap) {

@@ -6,6 +6,7 @@
 #include <deque>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <system_error>
 
@@ -140,12 +141,17 @@ struct RawlogReader::Impl {
   mrpt::poses::CPose2D accumulated;  // integral of the action increments
   std::deque<OdometrySample> samples;
   std::deque<RawlogScan> pending;
+  double last_scan_stamp = -std::numeric_limits<double>::infinity();
 
   void addSample(double stamp, const mrpt::poses::CPose2D& pose, OdometrySource from) {
     if (source == OdometrySource::kNone) source = from;
     if (source != from) {
       // Increments and absolute readings live in different odom frames: keep the first kind.
       warned_mixed_sources = true;
+      return;
+    }
+    if (!samples.empty() && stamp < samples.back().stamp) {
+      ++counts.odometry_out_of_order;  // interpolation needs samples in time order
       return;
     }
     ++counts.odometry_samples;
@@ -163,6 +169,11 @@ struct RawlogReader::Impl {
     out.label = obs.sensorLabel;
     LaserScan& s = out.scan;
     s.stamp = toSeconds(obs.timestamp);
+    if (s.stamp < last_scan_stamp) {
+      ++counts.scans_out_of_order;
+      return;
+    }
+    last_scan_stamp = s.stamp;
     // The scan plane in the robot frame: the sensor's x axis gives the yaw; a sensor mounted upside
     // down (its z axis pointing down) sweeps the other way round.
     const auto R = obs.sensorPose.getRotationMatrix();
@@ -412,6 +423,12 @@ std::vector<std::string> RawlogReader::warnings() const {
     w.push_back("the log has both odometry increments and absolute odometry observations; used " +
                 std::string(impl_->source == OdometrySource::kActions ? "the increments"
                                                                       : "the observations"));
+  }
+  if (impl_->counts.scans_out_of_order > 0 || impl_->counts.odometry_out_of_order > 0) {
+    w.push_back("time went backwards in the log: skipped " +
+                std::to_string(impl_->counts.scans_out_of_order) + " scans and " +
+                std::to_string(impl_->counts.odometry_out_of_order) +
+                " odometry samples older than the one before them");
   }
   if (impl_->counts.scans_without_odometry > 0) {
     w.push_back(std::to_string(impl_->counts.scans_without_odometry) +

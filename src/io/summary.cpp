@@ -23,6 +23,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["wall_time_s"] = s.wall_time_s;
   j["slam_time_s"] = s.slam_time_s;
   j["peak_rss_mb"] = s.peak_rss_mb;
+  if (!s.preset.empty()) j["preset"] = s.preset;
   j["particles"] = s.particles;
   j["resolution"] = s.resolution;
   j["seed"] = s.seed;

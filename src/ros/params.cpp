@@ -33,6 +33,8 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("resample_threshold", p.slam.resample_threshold, c.resample_threshold);
   visit("scan_matching", p.slam.matcher.enabled, c.scan_matching);
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
+  visit("matcher_heading_window", p.slam.matcher.heading_window, c.matcher_heading_window);
+  visit("matcher_heading_step", p.slam.matcher.heading_step, c.matcher_heading_step);
   visit("conflict_alarm_enabled", p.conflict_alarm.enabled, c.conflict_alarm_enabled);
   visit("conflict_alarm_factor", p.conflict_alarm.threshold_factor, c.conflict_alarm_factor);
   visit("conflict_alarm_min_added", p.conflict_alarm.min_added, c.conflict_alarm_min_added);

@@ -36,6 +36,23 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_DOUBLE_EQ(c.sensor.free_gap, 3.0);
 }
 
+// The real-robot preset turns on the wide-basin match (±20° in 5° steps) and changes nothing else.
+TEST(ConfigTest, RealRobotPreset) {
+  SlamConfig c;
+  applyRealRobotPreset(&c);
+  std::string why;
+  EXPECT_TRUE(c.isValid(&why)) << why;
+  EXPECT_DOUBLE_EQ(c.matcher.heading_window, 0.35);
+  EXPECT_EQ(SlamConfig().matcher.heading_window, 0.0);  // off by default
+  c.matcher.heading_window = 0.0;
+  const SlamConfig d;
+  EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
+  EXPECT_EQ(c.matcher.search_radius, d.matcher.search_radius);
+  EXPECT_EQ(c.motion.alpha_rot_rot, d.motion.alpha_rot_rot);
+  EXPECT_EQ(c.update_min_distance, d.update_min_distance);
+  EXPECT_EQ(c.particles, d.particles);
+}
+
 // Each invalid value makes the whole config invalid and says why.
 void expectInvalid(const SlamConfig& c, const char* what) {
   std::string why;
@@ -56,6 +73,12 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c = SlamConfig();
   c.resolution = 0.0;
   expectInvalid(c, "resolution = 0");
+  c = SlamConfig();
+  c.matcher.heading_window = -0.1;
+  expectInvalid(c, "heading_window < 0");
+  c = SlamConfig();
+  c.matcher.heading_step = 0.0;
+  expectInvalid(c, "heading_step = 0");
   c = SlamConfig();
   c.sensor.random_weight = 1.0;
   expectInvalid(c, "random_weight = 1");

@@ -73,6 +73,27 @@ TEST(OfflineArgs, DefaultsAreTheCoreDefaults) {
   EXPECT_EQ(o.octomap_z_max, 0.0);
 }
 
+// --preset real applies the core's real-robot preset (the wide-basin match); sim is the default.
+TEST(OfflineArgs, Preset) {
+  OfflineOptions o;
+  std::string error;
+  ASSERT_TRUE(parse({"--rawlog", "a", "--out", "b"}, &o, &error)) << error;
+  EXPECT_EQ(o.preset, "sim");
+  EXPECT_EQ(o.slam.matcher.heading_window, 0.0);
+  OfflineOptions real;
+  ASSERT_TRUE(parse({"--preset", "real", "--rawlog", "a", "--out", "b", "--particles", "30"}, &real,
+                    &error))
+      << error;
+  SlamConfig expected;
+  expected.particles = 30;
+  applyRealRobotPreset(&expected);
+  EXPECT_EQ(real.preset, "real");
+  EXPECT_EQ(real.slam.particles, 30);
+  EXPECT_EQ(real.slam.matcher.heading_window, expected.matcher.heading_window);
+  EXPECT_GT(real.slam.matcher.heading_window, 0.0);
+  EXPECT_TRUE(real.slam.isValid(&error)) << error;
+}
+
 TEST(OfflineArgs, BadUsageHasOneLineErrors) {
   const std::vector<std::vector<std::string>> bad = {
       {},
@@ -85,6 +106,7 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
       {"--rawlog", "a", "--out", "b", "--max-scans", "0"},
       {"--rawlog", "a", "--out", "b", "--seed", "-3"},
       {"--rawlog", "a", "--out", "b", "--bogus"},
+      {"--rawlog", "a", "--out", "b", "--preset", "fast"},
       {"--rawlog", "a", "--out"},
       {"--rawlog", "a", "--out", "b", "--quiet=1"},
       {"--rawlog", "a", "--out", "b", "--export-octomap=yes"},

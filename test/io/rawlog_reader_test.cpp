@@ -287,6 +287,43 @@ TEST(RawlogReader, InterpolatesAbsoluteOdometryToScanTimes) {
   EXPECT_FLOAT_EQ(scans[0].scan.max_range, 30.0f);
 }
 
+// A scan or an odometry sample older than the one before it is skipped (and reported): the
+// scans come out in time order and the odometry is interpolated between in-order samples only.
+TEST(RawlogReader, OutOfOrderStampsAreSkipped) {
+  const auto path = (scratchDir() / "backwards.rawlog").string();
+  {
+    SyntheticLog log(path);
+    log.odometry(10.0, 0, 0, 0);
+    log.scan(10.0);
+    log.odometry(11.0, 1, 0, 0);
+    log.scan(11.0);
+    log.odometry(10.5, 5, 5, 0);  // older than the sample before it
+    log.scan(10.8);               // older than the scan before it
+    log.odometry(12.0, 2, 0, 0);
+    log.scan(11.5);
+    log.scan(12.0);
+  }
+  RawlogReader reader;
+  std::string error;
+  ASSERT_TRUE(reader.open(path, &error)) << error;
+  std::vector<RawlogScan> scans;
+  RawlogScan s;
+  while (reader.next(&s) == RawlogReader::Status::kScan) scans.push_back(s);
+  ASSERT_EQ(scans.size(), 4u);
+  EXPECT_EQ(reader.counts().scans_out_of_order, 1u);
+  EXPECT_EQ(reader.counts().odometry_out_of_order, 1u);
+  EXPECT_EQ(reader.counts().odometry_samples, 3u);
+  EXPECT_NEAR(scans[2].scan.stamp, 11.5, 1e-6);
+  EXPECT_NEAR(scans[2].odometry.x, 1.5, 1e-6);  // between (1, 0) and (2, 0), not via (5, 5)
+  EXPECT_NEAR(scans[2].odometry.y, 0.0, 1e-6);
+  for (size_t i = 1; i < scans.size(); ++i) {
+    EXPECT_GE(scans[i].scan.stamp, scans[i - 1].scan.stamp);
+  }
+  const auto warnings = reader.warnings();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("time went backwards"), std::string::npos) << warnings[0];
+}
+
 TEST(RawlogReader, SensorPoseAndScanDirection) {
   const auto path = (scratchDir() / "sensor.rawlog").string();
   {

@@ -17,6 +17,8 @@ namespace evidential_slam {
 class BeamModel;
 class ScanMatcher;
 class WorkerPool;
+struct MatchPoint;
+struct TracedScan;
 
 // One node of a particle's path; children share their ancestors' nodes.
 struct PathNode {
@@ -73,12 +75,18 @@ class ParticleFilter {
 
  private:
   struct Workspace;
+  struct ScanModels;
   void resampleIfNeeded(FilterStepInfo* info);
+  // Wide-basin match of one hypothesis (matcher.heading_window > 0): ICP from the odometry
+  // prediction; unless that already explains the scan, also from turned starts and from no or
+  // reversed translation, the candidate chosen by the forward model's plausibility.
+  Pose2 wideMatch(const EvidentialGridMap& map, const Pose2& previous, const Pose2& increment,
+                  const LaserScan& scan, const std::vector<MatchPoint>& endpoints,
+                  const ScanModels& models, TracedScan* traced) const;
 
   SlamConfig config_;
   std::vector<Particle> particles_;
   // Sensor and matcher models per declared range noise (a log has one or a few lasers).
-  struct ScanModels;
   const ScanModels& modelsFor(const LaserScan& scan);
   std::vector<std::pair<float, std::unique_ptr<ScanModels>>> models_;
   std::unique_ptr<WorkerPool> pool_;

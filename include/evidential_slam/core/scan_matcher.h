@@ -35,11 +35,20 @@ class ScanMatcher {
   // Refined pose, or `initial` when too few endpoints find an occupied cell nearby.
   Pose2 refine(const EvidentialGridMap& map, const Pose2& initial,
                const std::vector<MatchPoint>& endpoints) const;
+  // Multi-start ICP: from `predicted` turned by 0, ±heading_step, ... up to ±`heading_window`;
+  // the converged pose with the best score() (in `best_score`; -1 when no start matches and
+  // `predicted` is returned).
+  Pose2 search(const EvidentialGridMap& map, const Pose2& predicted,
+               const std::vector<MatchPoint>& endpoints, double heading_window,
+               double* best_score) const;
 
  private:
   // One ICP iteration; false when too few endpoints matched.
   bool icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
                Pose2* pose) const;
+  // ICP to convergence from `start`; false when the first step finds too few matches.
+  bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
+           Pose2* pose) const;
   Pose2 hillClimb(const EvidentialGridMap& map, const Pose2& start,
                   const std::vector<MatchPoint>& endpoints) const;
 

@@ -31,11 +31,12 @@ struct OfflineOptions {
   std::string out_dir;
   std::string ground_truth;  // optional `t x y phi` file
   std::string laser_label;   // optional: only scans with this sensor label
-  SlamConfig slam;
-  ConflictAlarmConfig conflict_alarm;  // per-scan EC alarm written to conflict.csv           // core defaults; --particles/--seed/--resolution/--threads override
-  uint64_t max_scans = 0;    // 0 = all
-  bool quiet = false;        // no progress line, no per-scan warnings
-  double ate_max_dt = 0.05;  // s, timestamp association window for the ATE
+  SlamConfig slam;           // core defaults; --particles/--seed/--resolution/--threads override
+  ConflictAlarmConfig conflict_alarm;  // per-scan alarm written to conflict.csv
+  std::string preset = "sim";  // --preset: "sim" (the defaults) or "real" (applyRealRobotPreset)
+  uint64_t max_scans = 0;      // 0 = all
+  bool quiet = false;          // no progress line, no per-scan warnings
+  double ate_max_dt = 0.05;    // s, timestamp association window for the ATE
   // --export-octomap: <out>/octomap/map.{evidential.ot,bt,color.ot} (octomap_export.h), a slab
   // of voxel layers from the one containing octomap_z_min to the one containing octomap_z_max.
   bool export_octomap = false;

@@ -43,7 +43,11 @@ struct RawlogCounts {
   uint64_t scans_emitted = 0;           // scans handed out by next()
   uint64_t scans_without_odometry = 0;  // dropped: no odometry near their stamp
   uint64_t odometry_samples = 0;        // CActionRobotMovement2D / CObservationOdometry used
-  uint64_t other_observations = 0;      // observations of other classes or labels, ignored
+  // Time going backwards (a logger's clock jump, a reordered entry): such a scan or odometry
+  // sample, older than the one before it, is skipped so the path never goes back in time.
+  uint64_t scans_out_of_order = 0;
+  uint64_t odometry_out_of_order = 0;
+  uint64_t other_observations = 0;  // observations of other classes or labels, ignored
 };
 
 class RawlogReader {
@@ -70,7 +74,8 @@ class RawlogReader {
   RawlogFormat format() const;
   // Why reading stopped early (kTruncated / kError), one line; empty otherwise.
   const std::string& message() const;
-  // Things the caller should pass on to the user (skipped scans, mixed odometry sources).
+  // Things the caller should pass on to the user (skipped scans, mixed odometry sources, time
+  // going backwards).
   std::vector<std::string> warnings() const;
 
  private:

@@ -42,6 +42,7 @@ struct RunSummary {
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;  // inside processScan only
   double peak_rss_mb = 0.0;
+  std::string preset;  // offline runner --preset
   int particles = 0;
   double resolution = 0.0;
   uint64_t seed = 0;
