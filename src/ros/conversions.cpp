@@ -44,6 +44,17 @@ geometry_msgs::Transform toTransformMsg(const Pose2& pose) {
   return t;
 }
 
+geometry_msgs::TransformStamped toTransformStamped(const Pose2& pose, const ros::Time& stamp,
+                                                   const std::string& parent,
+                                                   const std::string& child) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  t.transform = toTransformMsg(pose);
+  return t;
+}
+
 geometry_msgs::Pose toPoseMsg(const Pose2& pose) {
   const geometry_msgs::Transform t = toTransformMsg(pose);
   geometry_msgs::Pose p;

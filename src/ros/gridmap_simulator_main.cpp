@@ -88,17 +88,6 @@ bool readParams(const ros::NodeHandle& pnh, es::io::GridmapSimulatorConfig* conf
   return false;
 }
 
-geometry_msgs::TransformStamped stampedTransform(const es::Pose2& pose, const ros::Time& stamp,
-                                                 const std::string& parent,
-                                                 const std::string& child) {
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = stamp;
-  t.header.frame_id = parent;
-  t.child_frame_id = child;
-  t.transform = es::ros_adapter::toTransformMsg(pose);
-  return t;
-}
-
 class SimulatorNode {
  public:
   SimulatorNode(ros::NodeHandle nh, ros::NodeHandle pnh, const es::io::GridmapSimulatorConfig& c,
@@ -137,8 +126,8 @@ class SimulatorNode {
         c.laser_rays, c.range_noise, c.range_noise);
     clock_ = c.start_time;
     publishClock();
-    static_broadcaster_.sendTransform(stampedTransform(simulator_.laserPose(), ros::Time(clock_),
-                                                       params_.base_frame, params_.laser_frame));
+    static_broadcaster_.sendTransform(es::ros_adapter::toTransformStamped(
+        simulator_.laserPose(), ros::Time(clock_), params_.base_frame, params_.laser_frame));
     waitForListeners();
 
     double next_scan = c.start_time;
@@ -219,8 +208,8 @@ class SimulatorNode {
                          why.c_str());
       return;
     }
-    tf_broadcaster_.sendTransform(
-        stampedTransform(s.odometry, stamp, params_.odom_frame, params_.base_frame));
+    tf_broadcaster_.sendTransform(es::ros_adapter::toTransformStamped(
+        s.odometry, stamp, params_.odom_frame, params_.base_frame));
     scan_pub_.publish(msg);
     ++scans_;
     if (s.kidnapped) ROS_WARN("gridmap_simulator: kidnap at %.2f s", s.stamp);

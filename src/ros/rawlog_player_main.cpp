@@ -71,17 +71,6 @@ bool readPlayerParams(const ros::NodeHandle& nh, PlayerParams* p, std::string* w
   return false;
 }
 
-geometry_msgs::TransformStamped stampedTransform(const es::Pose2& pose, const ros::Time& stamp,
-                                                 const std::string& parent,
-                                                 const std::string& child) {
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = stamp;
-  t.header.frame_id = parent;
-  t.child_frame_id = child;
-  t.transform = es::ros_adapter::toTransformMsg(pose);
-  return t;
-}
-
 class RawlogPlayer {
  public:
   RawlogPlayer(ros::NodeHandle nh, ros::NodeHandle pnh, PlayerParams params)
@@ -158,9 +147,9 @@ class RawlogPlayer {
         "(give the SLAM laser_range_sigma:=%.3f for the same model as the offline runner)",
         first.label.c_str(), first.scan.size(), first.scan.max_range, first.scan.range_sigma,
         first.scan.range_sigma);
-    static_broadcaster_.sendTransform(stampedTransform(first.scan.sensor_pose,
-                                                       ros::Time(first.scan.stamp),
-                                                       params_.base_frame, params_.laser_frame));
+    static_broadcaster_.sendTransform(
+        es::ros_adapter::toTransformStamped(first.scan.sensor_pose, ros::Time(first.scan.stamp),
+                                            params_.base_frame, params_.laser_frame));
     clock_ = first.scan.stamp;
     publishClock();
   }
@@ -197,8 +186,8 @@ class RawlogPlayer {
     advanceClockTo(item.scan.stamp);
     const ros::Time stamp(item.scan.stamp);
     tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(
-        stampedTransform(item.odometry, stamp, params_.odom_frame, params_.base_frame));
+    tf.transforms.push_back(es::ros_adapter::toTransformStamped(
+        item.odometry, stamp, params_.odom_frame, params_.base_frame));
     tf_pub_.publish(tf);
     scan_pub_.publish(msg);
     publishTruth(item.scan.stamp, item.odometry);

@@ -6,6 +6,7 @@
 
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Header.h>
@@ -22,6 +23,10 @@ namespace ros_adapter {
 // when the frame's z axis points down (a laser mounted upside down sweeps clockwise).
 Pose2 pose2FromTransform(const geometry_msgs::Transform& t, bool* upside_down = nullptr);
 geometry_msgs::Transform toTransformMsg(const Pose2& pose);
+// `pose` of `child` in `parent` at `stamp`, ready for a tf broadcaster.
+geometry_msgs::TransformStamped toTransformStamped(const Pose2& pose, const ros::Time& stamp,
+                                                   const std::string& parent,
+                                                   const std::string& child);
 geometry_msgs::Pose toPoseMsg(const Pose2& pose);
 Pose2 pose2FromPoseMsg(const geometry_msgs::Pose& pose);
 
