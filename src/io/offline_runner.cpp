@@ -13,6 +13,7 @@
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/core/slam_engine.h"
+#include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/layer_writer.h"
 #include "evidential_slam/io/progress.h"
@@ -25,14 +26,6 @@ namespace io {
 namespace {
 
 namespace fs = std::filesystem;
-
-template <typename T>
-bool parseNumber(const std::string& text, T* value) {
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  const auto r = std::from_chars(begin, end, *value);
-  return r.ec == std::errc() && r.ptr == end && !text.empty();
-}
 
 // Rejected scans are reported one by one only this often; the rest are counted.
 constexpr uint64_t kRejectionsShown = 3;
@@ -365,17 +358,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
     return false;
   };
   for (size_t i = 0; i < args.size(); ++i) {
-    std::string flag = args[i];
-    std::string value;
-    bool has_inline = false;
-    if (flag.rfind("--", 0) == 0) {
-      const size_t eq = flag.find('=');
-      if (eq != std::string::npos) {
-        value = flag.substr(eq + 1);
-        flag = flag.substr(0, eq);
-        has_inline = true;
-      }
-    }
+    const CommandLineArg arg = splitArg(args[i]);
+    const std::string& flag = arg.flag;
+    std::string value = arg.value;
+    const bool has_inline = arg.has_value;
     if (flag == "-h" || flag == "--help") {
       *help = true;
       return true;

@@ -1,21 +1,14 @@
 // The command line of evidential_slam_simulate. See simulate_args.h.
 #include "evidential_slam/io/simulate_args.h"
 
-#include <charconv>
+#include <cmath>
 #include <sstream>
-#include <system_error>
+
+#include "evidential_slam/io/command_line.h"
 
 namespace evidential_slam {
 namespace io {
 namespace {
-
-template <typename T>
-bool parseNumber(const std::string& text, T* value) {
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  const auto r = std::from_chars(begin, end, *value);
-  return r.ec == std::errc() && r.ptr == end && !text.empty();
-}
 
 // "a,b,c" -> numbers; false unless exactly `count` finite numbers.
 bool parseList(const std::string& text, size_t count, std::vector<double>* out) {
@@ -157,17 +150,10 @@ bool parseSimulateArgs(const std::vector<std::string>& args, SimulateOptions* o,
   const std::vector<GridmapSimulatorField> fields = gridmapSimulatorFields(&o->config);
   bool origin_given = false, centered_given = false;
   for (size_t i = 0; i < args.size(); ++i) {
-    std::string flag = args[i];
-    std::string value;
-    bool has_inline = false;
-    if (flag.rfind("--", 0) == 0) {
-      const size_t eq = flag.find('=');
-      if (eq != std::string::npos) {
-        value = flag.substr(eq + 1);
-        flag = flag.substr(0, eq);
-        has_inline = true;
-      }
-    }
+    const CommandLineArg arg = splitArg(args[i]);
+    const std::string& flag = arg.flag;
+    std::string value = arg.value;
+    const bool has_inline = arg.has_value;
     if (flag == "-h" || flag == "--help") {
       *help = true;
       return true;

@@ -103,7 +103,9 @@ TEST(Conversions, ScanRoundTrip) {
   for (size_t i = 0; i < 7; ++i) {
     EXPECT_NEAR(back.bearings[i], core.bearings[i], 1e-6) << i;
     EXPECT_EQ(back.valid[i], core.valid[i]) << i;
-    if (core.valid[i]) EXPECT_FLOAT_EQ(back.ranges[i], core.ranges[i]) << i;
+    if (core.valid[i]) {
+      EXPECT_FLOAT_EQ(back.ranges[i], core.ranges[i]) << i;
+    }
   }
   core.bearings[3] += 0.01f;  // uneven spacing cannot be a LaserScan
   EXPECT_FALSE(scanToRos(core, "laser", &msg, &why));
