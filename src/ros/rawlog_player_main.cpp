@@ -109,6 +109,10 @@ class RawlogPlayer {
            ros::WallTime::now() < give_up) {
       ros::WallDuration(0.05).sleep();
     }
+    // A subscriber on /tf may be another node's (a test's, rviz's): give the SLAM's own /tf
+    // subscription, requested with its scan subscription, a moment to connect too. A lost first
+    // odometry transform would hold the first scan in the SLAM's tf filter for good.
+    if (params_.wait_for_subscriber > 0.0) ros::WallDuration(1.0).sleep();
 
     es::io::RawlogScan item;
     uint64_t published = 0;
