@@ -95,7 +95,11 @@ void SlamNodelet::onInit() {
   alarm_.setConfig(params_.conflict_alarm);
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
-  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh_);
+  // The listener runs on this nodelet's (single-threaded) callback queue, not on a thread of its
+  // own: tf2_ros::MessageFilter loses a message for good when a transform lands between its
+  // transformable request and its bookkeeping (a race seen under load: a scan vanished without a
+  // word). On one queue, the tf callbacks and the filter's never overlap.
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh_, false);
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
 
   // Services on the multi-threaded handles: a save waits for the filter, scans keep flowing.
