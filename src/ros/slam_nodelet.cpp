@@ -142,6 +142,10 @@ void SlamNodelet::onInit() {
 void SlamNodelet::onScanWithoutTransform(
     const sensor_msgs::LaserScan::ConstPtr& msg,
     tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
+  {
+    std::lock_guard<std::mutex> lock(watchdog_mutex_);
+    in_filter_.erase(msg);
+  }
   std::string odom_frame;
   {
     std::lock_guard<std::mutex> lock(params_mutex_);
@@ -158,6 +162,7 @@ void SlamNodelet::onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(watchdog_mutex_);
   last_raw_scan_ = msg;
   last_raw_arrival_ = ros::WallTime::now();
+  in_filter_[msg] = last_raw_arrival_;
 }
 
 void SlamNodelet::checkWaitingScans(const ros::WallTimerEvent&) {
@@ -165,6 +170,18 @@ void SlamNodelet::checkWaitingScans(const ros::WallTimerEvent&) {
   {
     std::lock_guard<std::mutex> lock(watchdog_mutex_);
     const ros::WallTime now = ros::WallTime::now();
+    // A scan waiting for more than 3 s while later scans went through is lost.
+    for (auto it = in_filter_.begin(); it != in_filter_.end();) {
+      if ((now - it->second).toSec() > 3.0 && last_passed_arrival_ > it->second) {
+        NODELET_WARN_THROTTLE(5.0,
+                              "scan at t = %.3f lost: it still waits for its transform to the "
+                              "odometry frame while later scans went through",
+                              it->first->header.stamp.toSec());
+        it = in_filter_.erase(it);
+      } else {
+        ++it;
+      }
+    }
     // Scans came in during the last two seconds, and none passed in the last second.
     if (!last_raw_scan_ || (now - last_raw_arrival_).toSec() > 2.0 ||
         (now - last_passed_arrival_).toSec() < 1.0) {
@@ -191,6 +208,7 @@ void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
   {
     std::lock_guard<std::mutex> lock(watchdog_mutex_);
     last_passed_arrival_ = ros::WallTime::now();
+    in_filter_.erase(msg);
   }
   NodeParams params;
   {

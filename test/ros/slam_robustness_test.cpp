@@ -113,6 +113,8 @@ TEST(SlamRobustness, ScanWithoutTransformIsDroppedWithAWarningNamingTheFrames) {
   EXPECT_FALSE(robot->poseAt(105.0, 0.5));
   robot->step(108.0);  // and the next good scan is mapped
   EXPECT_TRUE(robot->poseAt(108.0, 10.0));
+  // The scans without tf stay in the filter while later ones go through: reported as lost.
+  EXPECT_TRUE(robot->warned("lost: it still waits for its transform", 15.0));
 }
 
 TEST(SlamRobustness, NanAndInfRangesAreSkipped) {

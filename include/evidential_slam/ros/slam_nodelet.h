@@ -3,6 +3,7 @@
 // live in conversions.h, parameters in params.h, the filter runs on SlamWorker's thread.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <mutex>
 
@@ -70,6 +71,9 @@ class SlamNodelet : public nodelet::Nodelet {
   std::mutex watchdog_mutex_;
   sensor_msgs::LaserScan::ConstPtr last_raw_scan_;
   ros::WallTime last_raw_arrival_, last_passed_arrival_;
+  // Scans inside the filter, by arrival: one still there when newer ones have gone through is
+  // reported as lost (the filter itself would only drop it silently, much later).
+  std::map<sensor_msgs::LaserScan::ConstPtr, ros::WallTime> in_filter_;
   std::unique_ptr<dynamic_reconfigure::Server<EvidentialSlamConfig>> reconfigure_server_;
   boost::recursive_mutex reconfigure_mutex_;
 
