@@ -23,6 +23,7 @@
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/trajectory_io.h"
+#include "ros_test_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -42,16 +43,7 @@ tf2_ros::Buffer* tf_buffer = nullptr;
 // Waits (wall time) until `ready` holds; false on timeout.
 template <typename F>
 bool waitFor(F&& ready, double seconds) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < deadline && ros::ok()) {
-    {
-      std::lock_guard<std::mutex> lock(observed->mutex);
-      if (ready()) return true;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  std::lock_guard<std::mutex> lock(observed->mutex);
-  return ready();
+  return testing_ros::waitUntil(observed->mutex, std::forward<F>(ready), seconds);
 }
 
 std::string param(const std::string& name) {

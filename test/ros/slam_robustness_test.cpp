@@ -22,6 +22,7 @@
 
 #include "evidential_slam/SaveMap.h"
 #include "evidential_slam/ros/conversions.h"
+#include "ros_test_support.h"
 #include "test_support.h"
 
 namespace evidential_slam {
@@ -67,15 +68,7 @@ struct Robot {
 
   template <typename F>
   bool waitFor(F&& ready, double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (ready()) return true;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
+    return testing_ros::waitUntil(mutex, std::forward<F>(ready), seconds);
   }
 
   bool warned(const std::string& text, double seconds) {
