@@ -64,8 +64,7 @@ void EvidentialGridMap::ensureTile(int tx, int ty) {
   tiles_h_ = h;
 }
 
-Cell& EvidentialGridMap::mutableCellSlow(int cx, int cy) {
-  const int tx = cx >> kTileBits, ty = cy >> kTileBits;
+EvidentialGridMap::Tile& EvidentialGridMap::mutableTileSlow(int tx, int ty) {
   ensureTile(tx, ty);
   std::shared_ptr<Tile>& slot =
       tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];
@@ -76,7 +75,7 @@ Cell& EvidentialGridMap::mutableCellSlow(int cx, int cy) {
     // concurrently; then we clone needlessly, which is harmless.)
     slot = std::make_shared<Tile>(*slot);
   }
-  return slot->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
+  return *slot;
 }
 
 CellBox EvidentialGridMap::allocatedBox() const {

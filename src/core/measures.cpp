@@ -10,7 +10,7 @@ constexpr double kLn2 = 0.69314718055994530942;
 double plogp2(double p) { return p > 0.0 ? p * std::log2(p) : 0.0; }
 }  // namespace
 
-double pignistic(const Cell& c) { return c.occupied + 0.5 * c.unknown(); }
+double pignistic(const Cell& c) { return c.occupied() + 0.5 * c.unknown(); }
 
 double entropyBits(const Cell& c) {
   const double p = pignistic(c);
@@ -22,13 +22,13 @@ double nonSpecificity(const Cell& c) { return c.toMass().unknown; }
 double internalConflict(const Cell& c) {
   // Normalised masses are stored directly; pl̃(o) = m̃(o) + m̃(Θ) = 1 - m̃(e). In float, 1 - m̃(e)
   // can round below m̃(o) (even to 0); pl̃(o) >= m̃(o) always, so clamp there: no log2(0).
-  const double mo = c.occupied, me = c.free;
+  const double mo = c.occupied(), me = c.free();
   const double term_o = mo > 0.0 ? mo * std::log2(std::max(1.0 - me, mo)) : 0.0;
   const double term_e = me > 0.0 ? me * std::log2(std::max(1.0 - mo, me)) : 0.0;
-  return -std::exp(-static_cast<double>(c.lambda)) * (term_o + term_e);
+  return -std::exp(-static_cast<double>(c.lambda())) * (term_o + term_e);
 }
 
-double externalConflict(const Cell& c) { return c.lambda / kLn2; }
+double externalConflict(const Cell& c) { return c.lambda() / kLn2; }
 
 const std::array<std::string, kLayerCount>& layerNames() {
   static const std::array<std::string, kLayerCount> names = {

@@ -268,11 +268,12 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-    beam_model->traceScan(proposed[leaders[g]].compose(scan.sensor_pose), scan, &ws.traced);
-    log_pl[g] =
-        beam_model->scanLogPlausibility(p.map, ws.traced, config_.sensor.weight_beam_stride);
-    conflict_added[g] =
-        beam_model->integrateScan(ws.traced, &p.map, &ws.accumulator, &conflict_mass[g]);
+    const BeamModel::ScanEvidence evidence =
+        beam_model->weighAndIntegrate(proposed[leaders[g]].compose(scan.sensor_pose), scan, &p.map,
+                                      &ws.accumulator, config_.sensor.weight_beam_stride);
+    log_pl[g] = evidence.log_plausibility;
+    conflict_added[g] = evidence.conflict_added_bits;
+    conflict_mass[g] = evidence.conflict_mass_added;
   });
 
   // 5. Members take their leader's pose, map (shared tiles) and path node.

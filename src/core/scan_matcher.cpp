@@ -10,6 +10,32 @@ constexpr double kKernelStepsPerCell2 = 64.0;
 constexpr double kRobustScale = 0.1;
 constexpr double kConvergedTranslation = 1e-4;  // m
 constexpr double kConvergedRotation = 1e-4;     // rad
+
+// Reads the 3 x 3 cells around (cx, cy) of a grid.
+class Neighbourhood {
+ public:
+  Neighbourhood(const EvidentialGridMap& map, int cx, int cy) : map_(map), cx_(cx), cy_(cy) {
+    constexpr int kBits = EvidentialGridMap::kTileBits;
+    if (((cx - 1) >> kBits) == ((cx + 1) >> kBits) && ((cy - 1) >> kBits) == ((cy + 1) >> kBits)) {
+      in_one_tile_ = true;
+      tile_ = map.tile(cx >> kBits, cy >> kBits);
+    }
+  }
+  const Cell& at(int dx, int dy) const {
+    if (!in_one_tile_) return map_.cell(cx_ + dx, cy_ + dy);
+    if (tile_ == nullptr) return kVacuous;
+    return tile_->cells[EvidentialGridMap::cellInTile(cx_ + dx, cy_ + dy)];
+  }
+
+ private:
+  static const Cell kVacuous;
+  const EvidentialGridMap& map_;
+  int cx_, cy_;
+  bool in_one_tile_ = false;
+  const EvidentialGridMap::Tile* tile_ = nullptr;
+};
+const Cell Neighbourhood::kVacuous{};
+
 }  // namespace
 
 ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor,
@@ -66,13 +92,16 @@ double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
         static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) * inv_res));
     const int jy =
         static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) * inv_res));
+    // The 3 x 3 blocks around both cells, read through their tiles when each lies in one tile
+    // (most do): one tile lookup instead of nine.
+    const Neighbourhood hit_cells(map, ix, iy), free_cells(map, jx, jy);
     float best = 0.0f;
     for (int dy = -1; dy <= 1; ++dy) {
       const double ddy = iy + dy + 0.5 - fy;
       for (int dx = -1; dx <= 1; ++dx) {
-        float occ = map.cell(ix + dx, iy + dy).occupied;
+        float occ = hit_cells.at(dx, dy).occupied();
         if (occ <= best) continue;
-        occ *= map.cell(jx + dx, jy + dy).free;
+        occ *= free_cells.at(dx, dy).free();
         if (occ <= best) continue;
         const double ddx = ix + dx + 0.5 - fx;
         const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
@@ -101,8 +130,8 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     const CellIndex f = map.worldToCell(pose->x + c * p.free.x() - s * p.free.y(),
                                         pose->y + s * p.free.x() + c * p.free.y());
     for (const CellIndex& o : spiral_) {
-      if (map.cell(q.x + o.x, q.y + o.y).occupied < threshold) continue;
-      if (map.cell(f.x + o.x, f.y + o.y).free < threshold) continue;
+      if (map.cell(q.x + o.x, q.y + o.y).occupied() < threshold) continue;
+      if (map.cell(f.x + o.x, f.y + o.y).free() < threshold) continue;
       const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
       const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
       const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
@@ -142,25 +171,33 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
   Pose2 current = start;
   double current_score = score(map, current, pts);
   double lin = config_.linear_step, ang = config_.angular_step;
+  int came_from = -1;  // index of the move that returns to the previous pose
   for (int level = 0; level <= config_.refinements; ++level) {
     for (int it = 0; it < config_.max_iterations; ++it) {
+      int best_move = -1;
       const Pose2 moves[6] = {
           {current.x + lin, current.y, current.theta}, {current.x - lin, current.y, current.theta},
           {current.x, current.y + lin, current.theta}, {current.x, current.y - lin, current.theta},
           {current.x, current.y, current.theta + ang}, {current.x, current.y, current.theta - ang}};
       Pose2 best = current;
       double best_score = current_score;
-      for (const Pose2& candidate : moves) {
+      for (int m = 0; m < 6; ++m) {
+        // The move back to where the last move came from scores below the current pose: skip it.
+        if (m == came_from) continue;
+        const Pose2& candidate = moves[m];
         const double sc = score(map, candidate, pts);
         if (sc > best_score) {
           best_score = sc;
           best = candidate;
+          best_move = m;
         }
       }
       if (best_score <= current_score) break;
       current = best;
       current_score = best_score;
+      came_from = best_move ^ 1;  // moves come in opposite pairs: 0/1, 2/3, 4/5
     }
+    came_from = -1;  // the step changes: the way back is a new pose
     lin *= 0.5;
     ang *= 0.5;
   }

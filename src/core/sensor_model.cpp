@@ -13,6 +13,26 @@ double normalCdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
 constexpr double kTableStepsPerSigma = 64.0;
 // The forward pass stops once past the hit and the window is below this.
 constexpr float kNegligibleWindow = 1e-6f;
+constexpr double kLn2 = 0.69314718055994530942;
+
+// One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1})
+// (algorithm.md §3): `passed` is the probability that the beam got past every cell so far,
+// `collected` the plausibility collected.
+struct ForwardPass {
+  double passed = 1.0;
+  double collected = 0.0;
+  bool stopped = false;
+  // Visits the next cell outwards, at distance d with window g; stops past the hit.
+  void visit(const Cell& c, double d, float g, double z) {
+    const double mo = c.occupied(), mu = c.unknown();
+    collected += passed * g * (mo + mu);
+    if (d > z && g < kNegligibleWindow) {
+      stopped = true;
+      return;
+    }
+    passed *= 1.0 - mo - mu * g;
+  }
+};
 
 }  // namespace
 
@@ -26,29 +46,57 @@ void TracedScan::clear() {
 void ScanAccumulator::reset(const CellIndex& center, int half_size) {
   if (half_size != half_) {
     half_ = half_size;
-    side_ = 2 * half_ + 1;
-    slots_.assign(static_cast<size_t>(side_) * side_, Slot{});
+    const int reach = (half_ + EvidentialGridMap::kTileSize - 1) >> kTileBits;
+    tiles_side_ = 2 * reach + 1;
+    slots_.assign(static_cast<size_t>(tiles_side_) * tiles_side_, Slot{});
     stamp_ = 0;
   }
-  origin_x_ = center.x - half_;
-  origin_y_ = center.y - half_;
-  touched_.clear();
+  const int reach = tiles_side_ / 2;
+  tile_x0_ = (center.x >> kTileBits) - reach;
+  tile_y0_ = (center.y >> kTileBits) - reach;
+  used_blocks_ = 0;
   if (++stamp_ == 0) {  // wrapped: forget every old stamp
     for (Slot& slot : slots_) slot.stamp = 0;
     stamp_ = 1;
   }
 }
 
+uint32_t ScanAccumulator::newBlock(int tile_x, int tile_y) {
+  if (used_blocks_ == blocks_.size()) blocks_.emplace_back();
+  Block& block = blocks_[used_blocks_];
+  block.tile_x = tile_x;
+  block.tile_y = tile_y;
+  block.touched.fill(0);
+  return used_blocks_++;
+}
+
+size_t ScanAccumulator::touched() const {
+  size_t n = 0;
+  for (uint32_t b = 0; b < used_blocks_; ++b) {
+    for (uint64_t word : blocks_[b].touched) n += static_cast<size_t>(__builtin_popcountll(word));
+  }
+  return n;
+}
+
 double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added) const {
   double added = 0.0, mass = 0.0;
-  for (const Touched& t : touched_) {
-    Cell& c = map->mutableCell(t.x, t.y);
-    const float before = c.lambda;
-    updateCell(c, t.mass);
-    added += c.lambda - before;
-    // m(∅) = 1 - exp(-λ), so its increase is exp(-λ_before) - exp(-λ_after).
-    if (conflict_mass_added != nullptr && c.lambda != before) {
-      mass += std::exp(-static_cast<double>(before)) - std::exp(-static_cast<double>(c.lambda));
+  for (uint32_t b = 0; b < used_blocks_; ++b) {
+    const Block& block = blocks_[b];
+    EvidentialGridMap::Tile& tile = map->mutableTile(block.tile_x, block.tile_y);
+    for (size_t w = 0; w < block.touched.size(); ++w) {
+      for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
+        const size_t k = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
+        Cell& c = tile.cells[k];
+        float lambda_before = 0.0f;
+        const float conflict = updateCell(c, block.mass[k], &lambda_before);
+        if (conflict <= 0.0f) continue;
+        // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
+        // exp(-λ) K (exact increments; the stored λ is rounded).
+        added -= std::log1p(-std::min(static_cast<double>(conflict), 1.0 - 1e-9));
+        if (conflict_mass_added != nullptr) {
+          mass += std::exp(-static_cast<double>(lambda_before)) * conflict;
+        }
+      }
     }
   }
   if (conflict_mass_added != nullptr) *conflict_mass_added = mass;
@@ -90,46 +138,19 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
     m.free = static_cast<float>((1.0 - r) * eta * (1.0 - po) * beyond);
     inverse_table_[i] = m;
   }
-}
-
-float BeamModel::hitWindow(double delta) const {
-  if (delta <= -g_half_ || delta >= g_half_) return 0.0f;
-  return g_table_[static_cast<size_t>((delta + g_half_) * inv_table_step_ + 0.5)];
-}
-
-ScanMass BeamModel::inverseMass(double s) const {
-  if (s <= s_min_) return clearMass();
-  if (s >= s_max_) return ScanMass{};
-  return inverse_table_[static_cast<size_t>((s - s_min_) * inv_table_step_ + 0.5)];
-}
-
-ScanMass BeamModel::clearMass() const {
-  ScanMass m;
-  m.free = static_cast<float>(1.0 - config_.random_weight);
-  return m;
+  clear_mass_.free = static_cast<float>(1.0 - r);
 }
 
 double BeamModel::beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
                                    double z) const {
-  // One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1}):
-  // T is the probability that the beam got past every cell so far, S the plausibility collected.
-  double t = 1.0, s = 0.0;
-  bool stopped = false;
-  for (size_t i = 0; i < n; ++i) {
+  ForwardPass pass;
+  for (size_t i = 0; i < n && !pass.stopped; ++i) {
     const double d = cells[i].distance;
-    const float g = hitWindow(z - d);
-    const Cell& c = map.cell(cells[i].x, cells[i].y);
-    const double mo = c.occupied, mu = 1.0 - c.occupied - c.free;
-    s += t * g * (mo + mu);
-    if (d > z && g < kNegligibleWindow) {
-      stopped = true;
-      break;
-    }
-    t *= 1.0 - mo - mu * g;
+    pass.visit(map.cell(cells[i].x, cells[i].y), d, hitWindow(z - d), z);
   }
-  if (!stopped) s += t * hitWindow(z - config_.usable_range);
+  if (!pass.stopped) pass.collected += pass.passed * hitWindow(z - config_.usable_range);
   const double r = config_.random_weight;
-  return (1.0 - r) * s + r;
+  return (1.0 - r) * pass.collected + r;
 }
 
 double BeamModel::scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced,
@@ -144,8 +165,9 @@ double BeamModel::scanLogPlausibility(const EvidentialGridMap& map, const Traced
   return sum;
 }
 
-void BeamModel::traceRay(const Eigen::Vector2d& origin, double angle, double length,
-                         std::vector<RayCell>* out) const {
+template <typename Fn>
+void BeamModel::traverse(const Eigen::Vector2d& origin, double angle, double length,
+                         Fn&& fn) const {
   // Amanatides-Woo traversal in cell units.
   const double ox = origin.x() / resolution_, oy = origin.y() / resolution_;
   const double dx = std::cos(angle), dy = std::sin(angle);
@@ -161,9 +183,8 @@ void BeamModel::traceRay(const Eigen::Vector2d& origin, double angle, double len
   // Distance of the cell centre along the beam, updated incrementally as the traversal steps.
   double dist = ((cx + 0.5 - ox) * dx + (cy + 0.5 - oy) * dy) * resolution_;
   const double dist_step_x = step_x * dx * resolution_, dist_step_y = step_y * dy * resolution_;
-  out->reserve(out->size() + static_cast<size_t>(2.0 * t_end) + 4);
   for (;;) {
-    out->push_back(RayCell{cx, cy, static_cast<float>(dist)});
+    fn(cx, cy, static_cast<float>(dist));
     if (t_max_x < t_max_y) {
       if (t_max_x > t_end) break;
       cx += step_x;
@@ -178,43 +199,58 @@ void BeamModel::traceRay(const Eigen::Vector2d& origin, double angle, double len
   }
 }
 
-void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
-                          TracedScan* out) const {
-  out->clear();
-  const Eigen::Vector2d origin = sensor_in_map.translation();
+template <typename Fn>
+void BeamModel::forEachRay(const Pose2& sensor_in_map, const LaserScan& scan, uint64_t* rays_bad,
+                           uint64_t* rays_no_return, Fn&& fn) const {
   const double usable = config_.usable_range;
   const double sensor_max = scan.max_range > 0.0f ? scan.max_range : usable;
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     const float z = scan.ranges[i];
-    const double angle = sensor_in_map.theta + scan.bearings[i];
+    Ray ray;
+    ray.angle = sensor_in_map.theta + scan.bearings[i];
     const bool no_return = !scan.valid.empty() && scan.valid[i] == 0;
-    double length;
-    bool hit;
     if (no_return) {
-      ++out->rays_no_return;
+      ++*rays_no_return;
       if (!config_.clear_no_return) continue;
-      length = usable;
-      hit = false;
+      ray.length = usable;
+      ray.hit = false;
     } else if (!std::isfinite(z) || z < 0.0f) {
-      ++out->rays_bad;
+      ++*rays_bad;
       continue;
     } else if (z < config_.min_range) {
       continue;
     } else if (z >= usable || z >= sensor_max) {
-      length = std::min(static_cast<double>(z), usable);
-      hit = false;
+      ray.length = std::min(static_cast<double>(z), usable);
+      ray.hit = false;
     } else {
-      length = z + beyond_hit_;
-      hit = true;
+      ray.length = z + beyond_hit_;
+      ray.hit = true;
     }
+    ray.range = ray.hit ? z : static_cast<float>(ray.length);
+    fn(ray);
+  }
+}
+
+void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
+                          TracedScan* out) const {
+  out->clear();
+  const Eigen::Vector2d origin = sensor_in_map.translation();
+  forEachRay(sensor_in_map, scan, &out->rays_bad, &out->rays_no_return, [&](const Ray& ray) {
     TracedBeam b;
     b.begin = static_cast<uint32_t>(out->cells.size());
-    traceRay(origin, angle, length, &out->cells);
+    out->cells.reserve(out->cells.size() + static_cast<size_t>(2.0 * ray.length / resolution_) + 4);
+    traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
+      out->cells.push_back(RayCell{cx, cy, d});
+    });
     b.end = static_cast<uint32_t>(out->cells.size());
-    b.range = hit ? z : static_cast<float>(length);
-    b.hit = hit;
+    b.range = ray.range;
+    b.hit = ray.hit;
     out->beams.push_back(b);
-  }
+  });
+}
+
+int BeamModel::windowHalfCells() const {
+  return static_cast<int>(std::ceil((config_.usable_range + beyond_hit_) / resolution_)) + 2;
 }
 
 double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map,
@@ -223,9 +259,7 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
   if (traced.cells.empty()) return 0.0;
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
   const RayCell& first = traced.cells.front();
-  const int half =
-      static_cast<int>(std::ceil((config_.usable_range + beyond_hit_) / resolution_)) + 2;
-  scratch->reset(CellIndex{first.x, first.y}, half);
+  scratch->reset(CellIndex{first.x, first.y}, windowHalfCells());
   const ScanMass clear = clearMass();
   for (const TracedBeam& b : traced.beams) {
     for (uint32_t i = b.begin; i < b.end; ++i) {
@@ -239,8 +273,44 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
       scratch->add(c.x, c.y, m);
     }
   }
-  constexpr double kLn2 = 0.69314718055994530942;
   return scratch->applyTo(map, conflict_mass_added) / kLn2;
+}
+
+BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
+                                                     const LaserScan& scan, EvidentialGridMap* map,
+                                                     ScanAccumulator* scratch, int stride) const {
+  ScanEvidence out;
+  const Eigen::Vector2d origin = sensor_in_map.translation();
+  const CellIndex sensor_cell = map->worldToCell(origin.x(), origin.y());
+  scratch->reset(sensor_cell, windowHalfCells());
+  const ScanMass clear = clearMass();
+  const double r = config_.random_weight;
+  int hit_beams = 0;
+  bool any = false;
+  forEachRay(sensor_in_map, scan, &out.rays_bad, &out.rays_no_return, [&](const Ray& ray) {
+    any = true;
+    if (!ray.hit) {
+      traverse(origin, ray.angle, ray.length,
+               [&](int cx, int cy, float) { scratch->add(cx, cy, clear); });
+      return;
+    }
+    const double z = ray.range;
+    const bool weigh = hit_beams++ % stride == 0;
+    ForwardPass pass;
+    pass.stopped = !weigh;
+    traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
+      if (!pass.stopped) pass.visit(map->cell(cx, cy), d, hitWindow(z - d), z);
+      const ScanMass m = inverseMass(d - z);
+      if (m.occupied == 0.0f && m.free == 0.0f) return;  // vacuous: nothing to add
+      scratch->add(cx, cy, m);
+    });
+    if (!weigh) return;
+    if (!pass.stopped) pass.collected += pass.passed * hitWindow(z - config_.usable_range);
+    out.log_plausibility += std::log((1.0 - r) * pass.collected + r);
+  });
+  if (!any) return out;
+  out.conflict_added_bits = scratch->applyTo(map, &out.conflict_mass_added) / kLn2;
+  return out;
 }
 
 }  // namespace evidential_slam

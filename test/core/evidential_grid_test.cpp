@@ -12,18 +12,22 @@ namespace {
 
 // A recognisable non-vacuous cell.
 Cell makeCell(float occupied, float free, float lambda) {
-  Cell c;
-  c.occupied = occupied;
-  c.free = free;
-  c.lambda = lambda;
-  return c;
+  return Cell::fromStored(occupied, free, lambda);
 }
 
+// The values a cell stores for these (the storage is quantised).
 void expectCell(const Cell& c, float occupied, float free, float lambda) {
-  EXPECT_EQ(c.occupied, occupied);
-  EXPECT_EQ(c.free, free);
-  EXPECT_EQ(c.lambda, lambda);
+  const Cell stored = makeCell(occupied, free, lambda);
+  EXPECT_EQ(c.occupied(), stored.occupied());
+  EXPECT_EQ(c.free(), stored.free());
+  EXPECT_EQ(c.lambda(), stored.lambda());
 }
+
+// The stored value of a mass m.
+float stored(float m) { return Cell::fromStored(m, 0.0f, 0.0f).occupied(); }
+
+void setOccupied(Cell& c, float m) { c.setMasses(m, c.free()); }
+void setFree(Cell& c, float m) { c.setMasses(c.occupied(), m); }
 
 void expectVacuous(const Cell& c) {
   expectCell(c, 0.0f, 0.0f, 0.0f);
@@ -74,7 +78,7 @@ TEST(EvidentialGridTest, MutableCellWritesPersist) {
   expectVacuous(g.cell(3, 5));
   expectVacuous(g.cell(-4, -4));
   // Modify in place through the returned reference.
-  g.mutableCell(3, 4).lambda = 2.0f;
+  g.mutableCell(3, 4).setLambda(2.0f);
   expectCell(g.cell(3, 4), 0.5f, 0.25f, 2.0f);
 }
 
@@ -90,7 +94,7 @@ TEST(EvidentialGridTest, GrowsInAllDirectionsKeepingCells) {
   g.mutableCell(-10000, 10000) = makeCell(0.7f, 0.0f, 0.0f);
   g.mutableCell(10000, -10000) = makeCell(0.0f, 0.9f, 0.0f);
   const CellIndex far = g.worldToCell(-500.0 + 1e-6, 499.99);
-  g.mutableCell(far.x, far.y).free = 0.5f;
+  setFree(g.mutableCell(far.x, far.y), 0.5f);
 
   expectCell(g.cell(0, 0), 0.1f, 0.2f, 0.0f);
   expectCell(g.cell(31, 31), 0.3f, 0.0f, 0.0f);
@@ -98,7 +102,7 @@ TEST(EvidentialGridTest, GrowsInAllDirectionsKeepingCells) {
   expectCell(g.cell(10000, 10000), 0.6f, 0.2f, 1.5f);
   expectCell(g.cell(-10000, 10000), 0.7f, 0.0f, 0.0f);
   expectCell(g.cell(10000, -10000), 0.0f, 0.9f, 0.0f);
-  EXPECT_EQ(g.cell(far).free, 0.5f);
+  EXPECT_EQ(g.cell(far).free(), stored(0.5f));
   expectVacuous(g.cell(5000, -5000));
   expectVacuous(g.cell(-1, -1));
   expectVacuous(g.cell(10001, 10000));
@@ -119,8 +123,8 @@ TEST(EvidentialGridTest, StepwiseGrowthKeepsCells) {
     g.mutableCell(-d - 1, d + 1) = makeCell(0.0f, 0.01f * k, 0.0f);
     for (int j = 0; j <= k; ++j) {
       const int e = 37 * j;
-      EXPECT_EQ(g.cell(e, -e).occupied, 0.01f * j) << "k=" << k << " j=" << j;
-      EXPECT_EQ(g.cell(-e - 1, e + 1).free, 0.01f * j) << "k=" << k << " j=" << j;
+      EXPECT_EQ(g.cell(e, -e).occupied(), stored(0.01f * j)) << "k=" << k << " j=" << j;
+      EXPECT_EQ(g.cell(-e - 1, e + 1).free(), stored(0.01f * j)) << "k=" << k << " j=" << j;
     }
   }
 }
@@ -167,7 +171,7 @@ TEST(EvidentialGridTest, ObservedBoxIgnoresTouchedVacuousCells) {
   EXPECT_EQ(o.max_x, 5);
   EXPECT_EQ(o.min_y, 6);
   EXPECT_EQ(o.max_y, 6);
-  g.mutableCell(-7, 2).lambda = 0.5f;
+  g.mutableCell(-7, 2).setLambda(0.5f);
   o = g.observedBox();
   EXPECT_EQ(o.min_x, -7);
   EXPECT_EQ(o.max_x, 5);
@@ -220,10 +224,10 @@ TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
   expectCell(b.cell(-40, 70), 0.25f, 0.25f, 0.0f);      // b unchanged
   expectCell(a.cell(-40, 70), 0.0f, 1.0f, 0.0f);
 
-  a.mutableCell(2, 1).lambda = 7.0f;  // a's first write to tile (0,0) after b cloned it
-  EXPECT_EQ(b.cell(2, 1).lambda, 0.0f);
-  EXPECT_EQ(b.cell(1, 1).occupied, 0.9f);
-  EXPECT_EQ(a.cell(1, 1).occupied, 0.5f);
+  a.mutableCell(2, 1).setLambda(7.0f);  // a's first write to tile (0,0) after b cloned it
+  EXPECT_EQ(b.cell(2, 1).lambda(), 0.0f);
+  EXPECT_EQ(b.cell(1, 1).occupied(), stored(0.9f));
+  EXPECT_EQ(a.cell(1, 1).occupied(), stored(0.5f));
 }
 
 // Copy-on-write with copy assignment into an existing grid, with growth after the copy, and among
@@ -240,20 +244,20 @@ TEST(EvidentialGridTest, CopyOnWriteAssignmentGrowthAndThreeParticles) {
   EvidentialGridMap c = b;
   // b grows far away (the tile array is re-laid out) and writes into the shared tile.
   b.mutableCell(-3000, 2500) = makeCell(0.3f, 0.3f, 0.3f);
-  b.mutableCell(0, 0).occupied = 0.8f;
+  setOccupied(b.mutableCell(0, 0), 0.8f);
   expectCell(a.cell(0, 0), 0.5f, 0.0f, 0.0f);
   expectCell(c.cell(0, 0), 0.5f, 0.0f, 0.0f);
   expectVacuous(a.cell(-3000, 2500));
   expectVacuous(c.cell(-3000, 2500));
-  EXPECT_EQ(b.cell(0, 0).occupied, 0.8f);
+  EXPECT_EQ(b.cell(0, 0).occupied(), stored(0.8f));
   expectCell(b.cell(-3000, 2500), 0.3f, 0.3f, 0.3f);
 
   // c writes its copy; a and b keep theirs.
-  c.mutableCell(0, 0).free = 0.4f;
-  EXPECT_EQ(a.cell(0, 0).free, 0.0f);
-  EXPECT_EQ(b.cell(0, 0).free, 0.0f);
-  EXPECT_EQ(c.cell(0, 0).free, 0.4f);
-  EXPECT_EQ(c.cell(0, 0).occupied, 0.5f);
+  setFree(c.mutableCell(0, 0), 0.4f);
+  EXPECT_EQ(a.cell(0, 0).free(), 0.0f);
+  EXPECT_EQ(b.cell(0, 0).free(), 0.0f);
+  EXPECT_EQ(c.cell(0, 0).free(), stored(0.4f));
+  EXPECT_EQ(c.cell(0, 0).occupied(), stored(0.5f));
 }
 
 // accumulateUniqueTileBytes counts each distinct tile once: with per-tile size P (measured on a
@@ -261,16 +265,16 @@ TEST(EvidentialGridTest, CopyOnWriteAssignmentGrowthAndThreeParticles) {
 // copy that wrote one tile adds exactly one cloned tile, P.
 TEST(EvidentialGridTest, AccumulateUniqueTileBytesCountsSharedTilesOnce) {
   EvidentialGridMap one(0.05);
-  one.mutableCell(0, 0).occupied = 0.5f;
+  setOccupied(one.mutableCell(0, 0), 0.5f);
   std::unordered_set<const EvidentialGridMap::Tile*> seen_one;
   const size_t per_tile = one.accumulateUniqueTileBytes(&seen_one);
   EXPECT_GE(per_tile, sizeof(EvidentialGridMap::Tile));
   EXPECT_EQ(one.accumulateUniqueTileBytes(&seen_one), 0u);  // already seen
 
   EvidentialGridMap a(0.05);
-  a.mutableCell(0, 0).occupied = 0.5f;    // tile (0,0)
-  a.mutableCell(40, 0).occupied = 0.5f;   // tile (1,0)
-  a.mutableCell(-5, -5).occupied = 0.5f;  // tile (-1,-1)
+  setOccupied(a.mutableCell(0, 0), 0.5f);    // tile (0,0)
+  setOccupied(a.mutableCell(40, 0), 0.5f);   // tile (1,0)
+  setOccupied(a.mutableCell(-5, -5), 0.5f);  // tile (-1,-1)
   EXPECT_EQ(a.allocatedTiles(), 3u);
   EvidentialGridMap b = a;
   EvidentialGridMap c = a;
@@ -281,7 +285,7 @@ TEST(EvidentialGridTest, AccumulateUniqueTileBytesCountsSharedTilesOnce) {
   EXPECT_EQ(b.accumulateUniqueTileBytes(&seen), 0u);
   EXPECT_EQ(c.accumulateUniqueTileBytes(&seen), 0u);
 
-  b.mutableCell(41, 1).free = 0.25f;  // clones tile (1,0) only
+  setFree(b.mutableCell(41, 1), 0.25f);  // clones tile (1,0) only
   std::unordered_set<const EvidentialGridMap::Tile*> seen2;
   EXPECT_EQ(a.accumulateUniqueTileBytes(&seen2), 3 * per_tile);
   EXPECT_EQ(b.accumulateUniqueTileBytes(&seen2), per_tile);

@@ -15,7 +15,13 @@ namespace evidential_slam {
 namespace {
 
 constexpr double kExact = 1e-12;  // double arithmetic on Mass
-constexpr double kFloat = 1e-6;   // values stored as float in Cell / ScanMass
+constexpr double kFloat = 1e-6;   // values stored as float in ScanMass
+// Cell storage: m̃(o), m̃(e) in steps of 1/65535 (a few roundings in a sequence) ...
+constexpr double kStored = 5e-5;
+// ... and λ as a half float (11 significant bits).
+double lambdaTolerance(double lambda) { return 1e-3 * lambda + 1e-7; }
+// The explicit masses of a stored cell: both roundings (m(∅) = 1 - exp(-λ) carries λ's).
+constexpr double kStoredMass = 3e-4;
 
 void expectMass(const Mass& m, double conflict, double occupied, double free, double unknown,
                 double tol) {
@@ -166,10 +172,10 @@ TEST(CellTest, DefaultIsVacuous) {
 // λ = -ln(0.68) = 0.38566248081198
 TEST(CellTest, FromMassStoresNormalisedPairAndLambda) {
   const Cell c = Cell::fromMass(Mass::make(0.32, 0.36, 0.23));
-  EXPECT_NEAR(c.occupied, 0.52941176470588, kFloat);
-  EXPECT_NEAR(c.free, 0.33823529411765, kFloat);
-  EXPECT_NEAR(c.unknown(), 0.13235294117647, kFloat);
-  EXPECT_NEAR(c.lambda, 0.38566248081198, kFloat);
+  EXPECT_NEAR(c.occupied(), 0.52941176470588, kStored);
+  EXPECT_NEAR(c.free(), 0.33823529411765, kStored);
+  EXPECT_NEAR(c.unknown(), 0.13235294117647, kStored);
+  EXPECT_NEAR(c.lambda(), 0.38566248081198, lambdaTolerance(0.38566248081198));
   EXPECT_TRUE(c.observed());
 }
 
@@ -181,8 +187,8 @@ TEST(CellTest, FromMassToMassRoundTrip) {
                                     Mass::make(0.2, 0.0, 0.8)};
   for (const Mass& m : masses) {
     const Mass r = Cell::fromMass(m).toMass();
-    expectMass(r, m.conflict, m.occupied, m.free, m.unknown, kFloat);
-    EXPECT_NEAR(sum(r), 1.0, kFloat);
+    expectMass(r, m.conflict, m.occupied, m.free, m.unknown, kStoredMass);
+    EXPECT_NEAR(sum(r), 1.0, 1e-6);
   }
 }
 
@@ -190,9 +196,9 @@ TEST(CellTest, FromMassToMassRoundTrip) {
 TEST(CellTest, UpdateVacuousCellGivesScanMass) {
   Cell c;
   updateCell(c, ScanMass{0.3f, 0.5f});
-  EXPECT_NEAR(c.occupied, 0.3, kFloat);
-  EXPECT_NEAR(c.free, 0.5, kFloat);
-  EXPECT_NEAR(c.lambda, 0.0, kFloat);
+  EXPECT_NEAR(c.occupied(), 0.3, kStored);
+  EXPECT_NEAR(c.free(), 0.5, kStored);
+  EXPECT_NEAR(c.lambda(), 0.0, lambdaTolerance(0.0));
   EXPECT_TRUE(c.observed());
 }
 
@@ -209,21 +215,21 @@ TEST(CellTest, UpdateCellHandSequence) {
   const ScanMass miss{0.0f, 0.8f};
   Cell c;
   updateCell(c, hit);
-  EXPECT_NEAR(c.occupied, 0.63, kFloat);
-  EXPECT_NEAR(c.free, 0.0, kFloat);
-  EXPECT_NEAR(c.lambda, 0.0, kFloat);
+  EXPECT_NEAR(c.occupied(), 0.63, kStored);
+  EXPECT_NEAR(c.free(), 0.0, kStored);
+  EXPECT_NEAR(c.lambda(), 0.0, lambdaTolerance(0.0));
 
   updateCell(c, miss);
-  EXPECT_NEAR(c.occupied, 0.25403225806, kFloat);
-  EXPECT_NEAR(c.free, 0.59677419355, kFloat);
-  EXPECT_NEAR(c.lambda, 0.70117935226, kFloat);
-  expectMass(c.toMass(), 0.504, 0.126, 0.296, 0.074, kFloat);
-  EXPECT_NEAR(externalConflict(c), 1.01158797428, 1e-5);
+  EXPECT_NEAR(c.occupied(), 0.25403225806, kStored);
+  EXPECT_NEAR(c.free(), 0.59677419355, kStored);
+  EXPECT_NEAR(c.lambda(), 0.70117935226, lambdaTolerance(0.70117935226));
+  expectMass(c.toMass(), 0.504, 0.126, 0.296, 0.074, kStoredMass);
+  EXPECT_NEAR(externalConflict(c), 1.01158797428, lambdaTolerance(1.01158797428));
 
   updateCell(c, hit);
-  EXPECT_NEAR(c.occupied, 0.55770224864, kFloat);
-  EXPECT_NEAR(c.free, 0.35383820109, kFloat);
-  EXPECT_NEAR(c.lambda, 1.17273256859, kFloat);
+  EXPECT_NEAR(c.occupied(), 0.55770224864, kStored);
+  EXPECT_NEAR(c.free(), 0.35383820109, kStored);
+  EXPECT_NEAR(c.lambda(), 1.17273256859, lambdaTolerance(1.17273256859));
 }
 
 // updateCell (normalised storage) agrees with the explicit unnormalised conjunctive rule applied
@@ -242,8 +248,9 @@ TEST(CellTest, UpdateCellMatchesExplicitConjunctiveRule) {
     for (const ScanMass& scan : sequences[s]) {
       updateCell(cell, scan);
       mass = combineConjunctive(mass, Mass::make(0.0, scan.occupied, scan.free));
-      expectMass(cell.toMass(), mass.conflict, mass.occupied, mass.free, mass.unknown, 1e-5);
-      EXPECT_NEAR(cell.lambda, -std::log(1.0 - mass.conflict), 1e-5);
+      expectMass(cell.toMass(), mass.conflict, mass.occupied, mass.free, mass.unknown, kStoredMass);
+      EXPECT_NEAR(cell.lambda(), -std::log(1.0 - mass.conflict),
+                  lambdaTolerance(-std::log(1.0 - mass.conflict)));
     }
   }
 }
@@ -259,25 +266,26 @@ TEST(CellTest, LambdaAccumulatesMinusLogOneMinusK) {
   Cell c;
   updateCell(c, ScanMass{0.0f, 0.8f});
   updateCell(c, ScanMass{0.0f, 0.8f});
-  EXPECT_NEAR(c.free, 0.96, kFloat);
-  EXPECT_NEAR(c.lambda, 0.0, kFloat);
+  EXPECT_NEAR(c.free(), 0.96, kStored);
+  EXPECT_NEAR(c.lambda(), 0.0, lambdaTolerance(0.0));
   updateCell(c, ScanMass{0.63f, 0.0f});
-  EXPECT_NEAR(c.lambda, 0.92836331, kFloat);
-  EXPECT_NEAR(c.free, 0.89878543, kFloat);
-  EXPECT_NEAR(c.occupied, 0.06376518, kFloat);
+  EXPECT_NEAR(c.lambda(), 0.92836331, lambdaTolerance(0.92836331));
+  EXPECT_NEAR(c.free(), 0.89878543, kStored);
+  EXPECT_NEAR(c.occupied(), 0.06376518, kStored);
   updateCell(c, ScanMass{0.63f, 0.0f});
-  EXPECT_NEAR(c.lambda, 1.76361526, 2e-6);
-  EXPECT_NEAR(c.occupied, 0.20139537, kFloat);
-  EXPECT_NEAR(c.free, 0.76666044, kFloat);
+  EXPECT_NEAR(c.lambda(), 1.76361526, lambdaTolerance(1.76361526));
+  EXPECT_NEAR(c.occupied(), 0.20139537, kStored);
+  EXPECT_NEAR(c.free(), 0.76666044, kStored);
   // EC in bits = λ / ln 2 = 1.76361526 / 0.69314718 = 2.54435899
-  EXPECT_NEAR(externalConflict(c), 2.54435899, 1e-5);
+  EXPECT_NEAR(externalConflict(c), 2.54435899, lambdaTolerance(2.54435899));
 }
 
 // 10^6 alternating hit/miss updates (the failure case of naive float storage, §2.3): no NaN/inf,
 // stored masses in [0,1], toMass() sums to 1, EC finite and never decreasing.
-// The cell converges to m̃(e) -> 1, so each hit adds K -> 0.63, i.e. -log2(0.37) = 1.43440282 bits
-// and each miss adds ~0: after 5*10^5 cycles EC ≈ 5e5 * 1.43440282 = 717201 bits (a double
-// recursion of the §2.3 formulas gives 717201.4). Tolerance 2% for float accumulation of λ.
+// The cell converges to m̃(e) -> 1, so each hit adds K -> 0.63, i.e. -ln(0.37) = 0.994 nats
+// (1.434 bits), and each miss adds 0. λ is stored as a half float: once its spacing exceeds twice
+// that increment the rounded sum stops growing. Half floats in [2048, 4096) are 2 apart, so λ grows
+// to 2048 nats and stays: EC = 2048 / ln 2 = 2954.6 bits (stored exactly).
 TEST(CellTest, AlternatingUpdatesNeverSaturate) {
   const ScanMass hit{0.63f, 0.0f};
   const ScanMass miss{0.0f, 0.8f};
@@ -286,10 +294,10 @@ TEST(CellTest, AlternatingUpdatesNeverSaturate) {
   int failures = 0;  // stop reporting after a few failures, the loop is long
   for (int i = 0; i < 1000000 && failures < 5; ++i) {
     updateCell(c, (i % 2 == 0) ? hit : miss);
-    const bool finite = std::isfinite(c.occupied) && std::isfinite(c.free) &&
-                        std::isfinite(c.lambda) && std::isfinite(c.unknown());
-    const bool in_range = c.occupied >= 0.0f && c.occupied <= 1.0f && c.free >= 0.0f &&
-                          c.free <= 1.0f && c.unknown() >= 0.0f && c.unknown() <= 1.0f;
+    const bool finite = std::isfinite(c.occupied()) && std::isfinite(c.free()) &&
+                        std::isfinite(c.lambda()) && std::isfinite(c.unknown());
+    const bool in_range = c.occupied() >= 0.0f && c.occupied() <= 1.0f && c.free() >= 0.0f &&
+                          c.free() <= 1.0f && c.unknown() >= 0.0f && c.unknown() <= 1.0f;
     const Mass m = c.toMass();
     const bool mass_ok = std::isfinite(m.conflict) && std::isfinite(m.occupied) &&
                          std::isfinite(m.free) && std::isfinite(m.unknown) &&
@@ -301,27 +309,23 @@ TEST(CellTest, AlternatingUpdatesNeverSaturate) {
     if (!(finite && in_range && mass_ok && ec_ok)) {
       ++failures;
       ADD_FAILURE() << "update " << i << ": finite=" << finite << " in_range=" << in_range
-                    << " mass_ok=" << mass_ok << " ec_ok=" << ec_ok << "; o=" << c.occupied
-                    << " e=" << c.free << " unknown()=" << c.unknown() << " lambda=" << c.lambda
+                    << " mass_ok=" << mass_ok << " ec_ok=" << ec_ok << "; o=" << c.occupied()
+                    << " e=" << c.free() << " unknown()=" << c.unknown() << " lambda=" << c.lambda()
                     << "; toMass: conflict=" << m.conflict << " occupied=" << m.occupied
                     << " free=" << m.free << " unknown=" << m.unknown << " sum=" << sum(m)
                     << "; EC=" << ec << " previous EC=" << previous_ec;
     }
     previous_ec = ec;
   }
-  EXPECT_NEAR(previous_ec, 717201.4, 0.02 * 717201.4);
-  EXPECT_GT(c.free, 0.99f);  // converged to "free" (misses dominate: 0.8 vs 0.63)
+  EXPECT_NEAR(previous_ec, 2048.0 / std::log(2.0), 1e-9);
+  EXPECT_GT(c.free(), 0.99f);  // converged to "free" (misses dominate: 0.8 vs 0.63)
 }
 
-// toMass() of a cell whose stored pair sums to 1 in float (unknown() == 0) must not return a
-// negative m(Θ): (o, e) = (0.0011497404f, 0.99885029f) is a state the alternating-update test
-// reaches (update 21); here 1.0f - o - e == 0 but 1 - (double)o - (double)e = -2.6e-8 < 0, so
-// m(Θ) must be derived from the float unknown() or clamped, not recomputed in double.
+// toMass() of a cell whose stored pair sums to 1 (unknown() == 0) must not return a negative m(Θ):
+// (o, e) = (0.0011497404f, 0.99885029f) is a state the alternating-update test reached with float
+// storage (update 21); stored, the pair rounds to 75 + 65460 = 65535 steps, m̃(Θ) = 0 exactly.
 TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
-  Cell c;
-  c.occupied = 0.0011497404193505645f;
-  c.free = 0.99885028600692749f;
-  c.lambda = 10.935624122619629f;
+  Cell c = Cell::fromStored(0.0011497404193505645f, 0.99885028600692749f, 10.935624122619629f);
   ASSERT_EQ(c.unknown(), 0.0f);
   const Mass m = c.toMass();
   EXPECT_GE(m.unknown, 0.0);
@@ -330,7 +334,7 @@ TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
   EXPECT_GE(m.conflict, 0.0);
   EXPECT_NEAR(sum(m), 1.0, 1e-12);
   // Same with no conflict: toMass must give m(Θ) = 0 exactly up to sign, i.e. >= 0.
-  c.lambda = 0.0f;
+  c.setLambda(0.0f);
   EXPECT_GE(c.toMass().unknown, 0.0);
 }
 
@@ -338,7 +342,9 @@ TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
 // hit (o0.5, Θ0.5) and miss (e0.5, Θ0.5) alternating, 10^6 times. The cycle converges to
 // after-miss (0.5, 0.5) -> hit: K = 0.5*0.5 = 0.25, m̃ = (0.5/0.75, 0.25/0.75) = (2/3, 1/3)
 // -> miss: K = (2/3)*0.5 = 1/3, m̃ = ((1/3)/(2/3), (1/3)/(2/3)) = (0.5, 0.5).
-// Per cycle λ += -ln(0.75) - ln(2/3) = -ln(0.5) = ln 2, i.e. 1 bit per 2 updates: EC ≈ 5e5 bits.
+// Per cycle λ += -ln(0.75) - ln(2/3) = ln 2 (0.288 + 0.405 nats) until the half-float storage of λ
+// rounds: in [512, 1024) half floats are 0.5 apart and both increments round up to 0.5; in
+// [1024, 2048) they are 1 apart and both round to 0. So λ ends at 1024 nats: EC = 1024 / ln 2.
 TEST(CellTest, AlternatingBalancedUpdatesStayFinite) {
   Cell c;
   double previous_lambda = 0.0;
@@ -346,17 +352,48 @@ TEST(CellTest, AlternatingBalancedUpdatesStayFinite) {
   for (int i = 0; i < 1000000 && ok; ++i) {
     updateCell(c, (i % 2 == 0) ? ScanMass{0.5f, 0.0f} : ScanMass{0.0f, 0.5f});
     const Mass m = c.toMass();
-    ok = std::isfinite(c.lambda) && c.lambda >= previous_lambda && c.occupied >= 0.0f &&
-         c.occupied <= 1.0f && c.free >= 0.0f && c.free <= 1.0f && c.unknown() >= 0.0f &&
+    ok = std::isfinite(c.lambda()) && c.lambda() >= previous_lambda && c.occupied() >= 0.0f &&
+         c.occupied() <= 1.0f && c.free() >= 0.0f && c.free() <= 1.0f && c.unknown() >= 0.0f &&
          std::fabs(sum(m) - 1.0) <= 1e-6 && std::isfinite(internalConflict(c)) &&
          std::isfinite(pignistic(c));
-    EXPECT_TRUE(ok) << "update " << i << ": o=" << c.occupied << " e=" << c.free
-                    << " lambda=" << c.lambda;
-    previous_lambda = c.lambda;
+    EXPECT_TRUE(ok) << "update " << i << ": o=" << c.occupied() << " e=" << c.free()
+                    << " lambda=" << c.lambda();
+    previous_lambda = c.lambda();
   }
-  EXPECT_NEAR(externalConflict(c), 500000.0, 0.02 * 500000.0);
-  EXPECT_NEAR(c.occupied, 0.5, 1e-3);  // after a miss (even count): the (0.5, 0.5) phase
-  EXPECT_NEAR(c.free, 0.5, 1e-3);
+  EXPECT_NEAR(externalConflict(c), 1024.0 / std::log(2.0), 1e-9);
+  EXPECT_NEAR(c.occupied(), 0.5, 1e-3);  // after a miss (even count): the (0.5, 0.5) phase
+  EXPECT_NEAR(c.free(), 0.5, 1e-3);
+}
+
+// Storage: masses round to the nearest 1/65535 with the pair kept in the simplex (m̃(Θ) >= 0
+// exactly), out-of-range inputs are clamped, λ is a half float and never negative.
+TEST(CellTest, StorageRoundsIntoTheSimplex) {
+  const Cell a = Cell::fromStored(0.3f, 0.5f, 0.0f);
+  EXPECT_EQ(a.occupied(), 19661.0f / 65535.0f);       // 0.3 * 65535 = 19660.5 -> 19661
+  EXPECT_EQ(a.free(), 32768.0f / 65535.0f);           // 32767.5 -> 32768
+  const Cell b = Cell::fromStored(0.6f, 0.6f, 0.0f);  // sums to 1.2: free gets the remainder
+  EXPECT_EQ(b.unknown(), 0.0f);
+  EXPECT_EQ(b.occupied(), 39321.0f / 65535.0f);
+  const Cell c = Cell::fromStored(-0.1f, 1.5f, -2.0f);
+  EXPECT_EQ(c.occupied(), 0.0f);
+  EXPECT_EQ(c.free(), 1.0f);
+  EXPECT_EQ(c.lambda(), 0.0f);
+  EXPECT_EQ(Cell::fromStored(0.0f, 0.0f, 1.0f / 3.0f).lambda(), 0.333251953125f);  // 11 bits
+  EXPECT_EQ(sizeof(Cell), 6u);
+}
+
+// A certainly free cell (m̃(e) = 1) is a fixed point of every scan mass without m(o): updateCell
+// skips it with the same result the formulas give; a hit still conflicts with it.
+TEST(CellTest, CertainlyFreeCellIsAFixedPointOfMisses) {
+  Cell c = Cell::fromStored(0.0f, 1.0f, 0.25f);
+  const Cell before = c;
+  EXPECT_EQ(updateCell(c, ScanMass{0.0f, 0.8f}), 0.0f);
+  EXPECT_TRUE(c == before);
+  float lambda_before = -1.0f;
+  EXPECT_NEAR(updateCell(c, ScanMass{0.63f, 0.0f}, &lambda_before), 0.63f, 1e-6f);
+  EXPECT_EQ(lambda_before, before.lambda());
+  EXPECT_NEAR(c.lambda(), 0.25 - std::log(0.37), lambdaTolerance(1.244));
+  EXPECT_EQ(c.free(), 1.0f);  // K normalises the hit away: m̃ stays (0, 1)
 }
 
 }  // namespace

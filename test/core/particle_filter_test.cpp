@@ -213,13 +213,13 @@ TEST(ParticleFilterTest, DeclaredRangeNoiseWidensTheModel) {
   ParticleFilter precise(config);
   precise.initialize(origin, scan, 0);
   const Cell& precise_hit = precise.best().map.cell(40, 0);
-  EXPECT_NEAR(precise_hit.occupied, 0.4827411, 2e-3);
+  EXPECT_NEAR(precise_hit.occupied(), 0.4827411, 2e-3);
 
   scan.range_sigma = 0.3f;
   ParticleFilter noisy(config);
   noisy.initialize(origin, scan, 0);
   const Cell& noisy_hit = noisy.best().map.cell(40, 0);
-  EXPECT_NEAR(noisy_hit.occupied, 0.0845160, 2e-3);
+  EXPECT_NEAR(noisy_hit.occupied(), 0.0845160, 2e-3);
 }
 
 // forSensorNoise: σ_i = max(σ_i, σ_range), σ_f = max(σ_f, √(σ_range² + Δ²/12)); a sensor more

@@ -190,10 +190,10 @@ TEST(SlamEngineTest, RoomSmokeTest) {
   // Wall x = 2 at y = 0.1: the hit points lie on the boundary between cells 39 and 40.
   const CellIndex wall = map.worldToCell(1.99, 0.125);
   const CellIndex wall2 = map.worldToCell(2.01, 0.125);
-  EXPECT_GT(std::max(map.cell(wall).occupied, map.cell(wall2).occupied), 0.5f);
+  EXPECT_GT(std::max(map.cell(wall).occupied(), map.cell(wall2).occupied()), 0.5f);
   const CellIndex centre = map.worldToCell(0.0, 0.6);
-  EXPECT_GT(map.cell(centre).free, 0.9f);
-  EXPECT_LT(map.cell(centre).occupied, 0.05f);
+  EXPECT_GT(map.cell(centre).free(), 0.9f);
+  EXPECT_LT(map.cell(centre).occupied(), 0.05f);
 }
 
 }  // namespace

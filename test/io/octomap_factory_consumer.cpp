@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   const auto leaf = evidential->begin_leafs();
   if (leaf != evidential->end_leafs()) {
     const evidential_slam::Cell& c = leaf->cell();
-    std::printf("first leaf m~(o) %.9g m~(e) %.9g lambda %.9g\n", c.occupied, c.free, c.lambda);
+    std::printf("first leaf m~(o) %.9g m~(e) %.9g lambda %.9g\n", c.occupied(), c.free(),
+                c.lambda());
   }
   return 0;
 }

@@ -45,7 +45,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   size_t nodes = 0;
   for (auto it = tree->begin_tree(), end = tree->end_tree(); it != end; ++it) {
     ++nodes;
-    if (!io::isValidCell(it->cell())) die("invalid cell accepted", "");
+    const evidential_slam::Cell& c = it->cell();
+    if (!io::isValidStoredCell(c.occupied(), c.free(), c.lambda())) {
+      die("invalid cell accepted", "");
+    }
     if (it.getDepth() > tree->getTreeDepth()) die("node below the finest level", "");
   }
   if (nodes != tree->size()) die("size() disagrees with the nodes", "");

@@ -51,7 +51,7 @@ inline EvidentialGridMap makeTestGrid(double resolution = 0.05) {
   for (int k = 0; k < 2000; ++k)
     updateCell(conflicted, ScanMass{k % 2 ? 0.63f : 0.0f, k % 2 ? 0.0f : 0.8f});
   // Balanced evidence: BetP exactly 0.5.
-  grid.mutableCell(45, -10) = Cell{0.25f, 0.25f, 0.0f};
+  grid.mutableCell(45, -10) = Cell::fromStored(0.25f, 0.25f, 0.0f);
   return grid;
 }
 

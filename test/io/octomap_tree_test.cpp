@@ -51,7 +51,7 @@ std::unique_ptr<EvidentialOcTree> readOrDie(const std::string& path) {
 
 TEST(EvidentialOcTreeNode, PayloadIsSixteenBytesAndRoundTrips) {
   EvidentialOcTreeNode node;
-  node.setCell(Cell{0.6f, 0.1f, 0.3f});
+  node.setCell(Cell::fromStored(0.6f, 0.1f, 0.3f));
   std::ostringstream out;
   node.writeData(out);
   const std::string bytes = out.str();
@@ -59,9 +59,13 @@ TEST(EvidentialOcTreeNode, PayloadIsSixteenBytesAndRoundTrips) {
   float v[4];
   std::memcpy(v, bytes.data(), sizeof(v));
   EXPECT_EQ(v[0], occupancyLogOdds(node.cell()));
-  EXPECT_EQ(v[1], 0.6f);
-  EXPECT_EQ(v[2], 0.1f);
-  EXPECT_EQ(v[3], 0.3f);
+  // The cell's stored values (quantised: m̃ in steps of 1/65535, λ a half float).
+  EXPECT_EQ(v[1], node.cell().occupied());
+  EXPECT_EQ(v[2], node.cell().free());
+  EXPECT_EQ(v[3], node.cell().lambda());
+  EXPECT_NEAR(v[1], 0.6f, 1e-5f);
+  EXPECT_NEAR(v[2], 0.1f, 1e-5f);
+  EXPECT_NEAR(v[3], 0.3f, 2e-4f);
 
   std::istringstream in(bytes);
   EvidentialOcTreeNode back;
@@ -72,14 +76,14 @@ TEST(EvidentialOcTreeNode, PayloadIsSixteenBytesAndRoundTrips) {
 
 TEST(EvidentialOcTreeNode, ValueIsTheLogOddsOfBetP) {
   EXPECT_EQ(occupancyLogOdds(Cell{}), 0.0f);  // vacuous: BetP 0.5
-  const Cell wall{0.9f, 0.05f, 0.0f};
+  const Cell wall = Cell::fromStored(0.9f, 0.05f, 0.0f);
   const double p = pignistic(wall);
   EXPECT_NEAR(occupancyLogOdds(wall), std::log(p / (1 - p)), 1e-5);
   EXPECT_GT(occupancyLogOdds(wall), 0.0f);
-  EXPECT_LT(occupancyLogOdds(Cell{0.0f, 0.8f, 0.0f}), 0.0f);
+  EXPECT_LT(occupancyLogOdds(Cell::fromStored(0.0f, 0.8f, 0.0f)), 0.0f);
   // Certain cells stay finite.
-  EXPECT_NEAR(occupancyLogOdds(Cell{1.0f, 0.0f, 0.0f}), std::log(1e6), 1e-3);
-  EXPECT_NEAR(occupancyLogOdds(Cell{0.0f, 1.0f, 0.0f}), -std::log(1e6), 1e-3);
+  EXPECT_NEAR(occupancyLogOdds(Cell::fromStored(1.0f, 0.0f, 0.0f)), std::log(1e6), 1e-3);
+  EXPECT_NEAR(occupancyLogOdds(Cell::fromStored(0.0f, 1.0f, 0.0f)), -std::log(1e6), 1e-3);
 }
 
 TEST(EvidentialOcTreeNode, ReadRejectsValuesNoGridCanHold) {
@@ -116,7 +120,7 @@ void fillOctant(EvidentialOcTree* tree, const std::array<Cell, 8>& cells) {
 }
 
 TEST(EvidentialOcTree, PrunesOnlyChildrenWithEqualMasses) {
-  const Cell free_cell{0.0f, 0.8f, 0.0f};
+  const Cell free_cell = Cell::fromStored(0.0f, 0.8f, 0.0f);
   std::array<Cell, 8> equal;
   equal.fill(free_cell);
   EvidentialOcTree same(0.05);
@@ -127,13 +131,13 @@ TEST(EvidentialOcTree, PrunesOnlyChildrenWithEqualMasses) {
   EXPECT_EQ(same.getNumLeafNodes(), 1u);
   const EvidentialOcTreeNode* merged = same.search(OcTreeKey(32769, 32769, 32769));
   ASSERT_NE(merged, nullptr);
-  EXPECT_TRUE(merged->cell().free == 0.8f && merged->cell().occupied == 0.0f);
+  EXPECT_TRUE(merged->cell() == free_cell);
 
   // Same BetP (so the same OctoMap value) but different masses: OctoMap's own rule would merge
   // these; ours must not.
   std::array<Cell, 8> balanced;
-  balanced.fill(Cell{0.25f, 0.25f, 0.0f});
-  balanced[5] = Cell{0.125f, 0.125f, 0.0f};
+  balanced.fill(Cell::fromStored(0.25f, 0.25f, 0.0f));
+  balanced[5] = Cell::fromStored(0.125f, 0.125f, 0.0f);
   ASSERT_EQ(occupancyLogOdds(balanced[0]), occupancyLogOdds(balanced[5]));
   EvidentialOcTree differ(0.05);
   fillOctant(&differ, balanced);
@@ -144,7 +148,7 @@ TEST(EvidentialOcTree, PrunesOnlyChildrenWithEqualMasses) {
 
   // Equal masses, different conflict.
   std::array<Cell, 8> conflict = equal;
-  conflict[2].lambda = 0.5f;
+  conflict[2].setLambda(0.5f);
   EvidentialOcTree lambda_differs(0.05);
   fillOctant(&lambda_differs, conflict);
   lambda_differs.prune();
@@ -153,15 +157,15 @@ TEST(EvidentialOcTree, PrunesOnlyChildrenWithEqualMasses) {
 
 TEST(EvidentialOcTree, InnerNodesCarryTheirMostOccupiedChild) {
   std::array<Cell, 8> cells;
-  cells.fill(Cell{0.0f, 0.8f, 0.0f});
-  cells[3] = Cell{0.7f, 0.1f, 0.2f};
-  cells[6] = Cell{0.4f, 0.1f, 0.0f};
+  cells.fill(Cell::fromStored(0.0f, 0.8f, 0.0f));
+  cells[3] = Cell::fromStored(0.7f, 0.1f, 0.2f);
+  cells[6] = Cell::fromStored(0.4f, 0.1f, 0.0f);
   EvidentialOcTree tree(0.05);
   fillOctant(&tree, cells);
   for (auto it = tree.begin_tree(), end = tree.end_tree(); it != end; ++it) {
     EXPECT_FLOAT_EQ(it->getLogOdds(), occupancyLogOdds(it->cell())) << "depth " << it.getDepth();
     if (it.isLeaf()) continue;
-    EXPECT_TRUE(it->cell().occupied == 0.7f && it->cell().lambda == 0.2f);
+    EXPECT_TRUE(it->cell() == cells[3]);
   }
 }
 
@@ -198,8 +202,7 @@ void expectRoundTrip(const EvidentialGridMap& grid, const OctomapExportConfig& c
       const EvidentialOcTreeNode* node = tree->search(keyOf(o.index, kz0 + layer));
       ASSERT_NE(node, nullptr) << o.index.x << "," << o.index.y << " layer " << layer;
       // The stored floats are the grid's, bit for bit...
-      if (!(node->cell().occupied == o.cell.occupied && node->cell().free == o.cell.free &&
-            node->cell().lambda == o.cell.lambda)) {
+      if (!(node->cell() == o.cell)) {
         ++mismatches;
       }
       // ... so all four masses agree.
@@ -275,7 +278,7 @@ TEST(OctomapExport, GenericOctomapCodeWorksOnTheTree) {
   EvidentialGridMap grid(0.05);
   for (int x = 0; x < 40; ++x) updateCell(grid.mutableCell(x, 0), ScanMass{0.0f, 0.8f});
   updateCell(grid.mutableCell(40, 0), ScanMass{0.63f, 0.0f});
-  grid.mutableCell(42, 0) = Cell{0.2f, 0.2f, 0.0f};
+  grid.mutableCell(42, 0) = Cell::fromStored(0.2f, 0.2f, 0.0f);
   const fs::path dir = test::scratchDir();
   const auto tree = readOrDie(exportGrid(grid, dir) + ".evidential.ot");
   ASSERT_TRUE(tree);

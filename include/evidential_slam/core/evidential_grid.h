@@ -56,21 +56,32 @@ class EvidentialGridMap {
     if (tx < 0 || ty < 0 || tx >= tiles_w_ || ty >= tiles_h_) return kVacuousCell;
     const Tile* t = tiles_[static_cast<size_t>(ty) * tiles_w_ + tx].get();
     if (t == nullptr) return kVacuousCell;
-    return t->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
+    return t->cells[cellInTile(cx, cy)];
   }
   const Cell& cell(const CellIndex& c) const { return cell(c.x, c.y); }
 
-  // Write access: grows the grid and clones a shared tile before returning the cell.
-  Cell& mutableCell(int cx, int cy) {
-    const int tx = (cx >> kTileBits) - tile_x0_;
-    const int ty = (cy >> kTileBits) - tile_y0_;
-    if (tx >= 0 && ty >= 0 && tx < tiles_w_ && ty < tiles_h_) {
-      std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(ty) * tiles_w_ + tx];
-      if (slot && slot.use_count() == 1) {  // owned: write in place
-        return slot->cells[((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1))];
-      }
+  // Read access to a whole tile (tile coordinates: cell >> kTileBits); nullptr if not allocated.
+  const Tile* tile(int tx, int ty) const {
+    tx -= tile_x0_;
+    ty -= tile_y0_;
+    if (tx < 0 || ty < 0 || tx >= tiles_w_ || ty >= tiles_h_) return nullptr;
+    return tiles_[static_cast<size_t>(ty) * tiles_w_ + tx].get();
+  }
+  static int cellInTile(int cx, int cy) {
+    return ((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1));
+  }
+
+  // Write access: grows the grid and clones a shared tile before returning it.
+  Tile& mutableTile(int tx, int ty) {
+    const int ix = tx - tile_x0_, iy = ty - tile_y0_;
+    if (ix >= 0 && iy >= 0 && ix < tiles_w_ && iy < tiles_h_) {
+      std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(iy) * tiles_w_ + ix];
+      if (slot && slot.use_count() == 1) return *slot;  // owned: write in place
     }
-    return mutableCellSlow(cx, cy);
+    return mutableTileSlow(tx, ty);
+  }
+  Cell& mutableCell(int cx, int cy) {
+    return mutableTile(cx >> kTileBits, cy >> kTileBits).cells[cellInTile(cx, cy)];
   }
 
   // Box of allocated tiles (in cells); empty for a fresh grid.
@@ -85,7 +96,7 @@ class EvidentialGridMap {
 
  private:
   void ensureTile(int tx, int ty);
-  Cell& mutableCellSlow(int cx, int cy);
+  Tile& mutableTileSlow(int tx, int ty);
 
   static const Cell kVacuousCell;
   double resolution_;

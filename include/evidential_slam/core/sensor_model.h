@@ -4,6 +4,7 @@
 // scan and pose; the same traced cells serve the weight and the map update.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -39,51 +40,67 @@ struct TracedScan {
   void clear();
 };
 
-// Dense scratch for fusing one scan's beams cell by cell (Dempster's rule) before the single
-// conjunctive update of each touched map cell. One per worker thread.
+// Scratch for fusing one scan's beams cell by cell (Dempster's rule) before the single
+// conjunctive update of each touched map cell. Sparse and laid out in the map's tiles: a block per
+// map tile the scan touches, so the map is then updated tile by tile (one copy-on-write check per
+// tile, cells in memory order). One per worker thread.
 class ScanAccumulator {
  public:
+  static constexpr int kTileBits = EvidentialGridMap::kTileBits;
+  static constexpr int kTileCells = EvidentialGridMap::kTileCells;
+
+  // Starts a scan whose cells lie within `half_size` cells of `center`.
   void reset(const CellIndex& center, int half_size);
   // Dempster-fuses `m` into the scan's mass of cell (x, y); false if outside the window.
   bool add(int x, int y, const ScanMass& m) {
-    const int lx = x - origin_x_, ly = y - origin_y_;
-    if (static_cast<unsigned>(lx) >= static_cast<unsigned>(side_) ||
-        static_cast<unsigned>(ly) >= static_cast<unsigned>(side_)) {
+    const int tx = (x >> kTileBits) - tile_x0_, ty = (y >> kTileBits) - tile_y0_;
+    if (static_cast<unsigned>(tx) >= static_cast<unsigned>(tiles_side_) ||
+        static_cast<unsigned>(ty) >= static_cast<unsigned>(tiles_side_)) {
       return false;
     }
-    Slot& slot = slots_[static_cast<size_t>(ly) * side_ + lx];
+    Slot& slot = slots_[static_cast<size_t>(ty) * tiles_side_ + tx];
     if (slot.stamp != stamp_) {
       slot.stamp = stamp_;
-      slot.index = static_cast<uint32_t>(touched_.size());
-      touched_.push_back(Touched{x, y, m});
+      slot.block = newBlock(tx + tile_x0_, ty + tile_y0_);
+    }
+    Block& block = blocks_[slot.block];
+    const int k = EvidentialGridMap::cellInTile(x, y);
+    uint64_t& word = block.touched[k >> 6];
+    const uint64_t bit = uint64_t{1} << (k & 63);
+    if ((word & bit) == 0) {
+      word |= bit;
+      block.mass[k] = m;
     } else {
-      ScanMass& acc = touched_[slot.index].mass;
-      acc = fuseDempster(acc, m);
+      block.mass[k] = fuseDempster(block.mass[k], m);
     }
     return true;
   }
   // Applies every touched cell to `map` with the conjunctive rule; returns the external conflict
   // added (nats, summed over cells) and, if asked, the conflict mass m(∅) added (summed).
   double applyTo(EvidentialGridMap* map, double* conflict_mass_added = nullptr) const;
-  size_t touched() const { return touched_.size(); }
+  size_t touched() const;
 
  private:
   struct Slot {
     uint32_t stamp = 0;
-    uint32_t index = 0;
+    uint32_t block = 0;
   };
-  struct Touched {
-    int x;
-    int y;
-    ScanMass mass;
+  struct Block {
+    int tile_x = 0;
+    int tile_y = 0;
+    std::array<uint64_t, kTileCells / 64> touched{};
+    std::array<ScanMass, kTileCells> mass;
   };
-  int origin_x_ = 0;
-  int origin_y_ = 0;
+  uint32_t newBlock(int tile_x, int tile_y);
+
+  int tile_x0_ = 0;
+  int tile_y0_ = 0;
   int half_ = -1;
-  int side_ = 0;
+  int tiles_side_ = 0;
   uint32_t stamp_ = 0;
   std::vector<Slot> slots_;
-  std::vector<Touched> touched_;
+  std::vector<Block> blocks_;  // the first used_blocks_ belong to the current scan
+  uint32_t used_blocks_ = 0;
 };
 
 class BeamModel {
@@ -94,11 +111,18 @@ class BeamModel {
   double resolution() const { return resolution_; }
 
   // Forward hit window g(δ) = Φ(δ/σ_f + k_f) - Φ(δ/σ_f - k_f), tabulated.
-  float hitWindow(double delta) const;
+  float hitWindow(double delta) const {
+    if (delta <= -g_half_ || delta >= g_half_) return 0.0f;
+    return g_table_[static_cast<size_t>((delta + g_half_) * inv_table_step_ + 0.5)];
+  }
   // Inverse-model mass of a cell whose centre lies `s` metres beyond the hit (s < 0: in front).
-  ScanMass inverseMass(double s) const;
+  ScanMass inverseMass(double s) const {
+    if (s <= s_min_) return clearMass();
+    if (s >= s_max_) return ScanMass{};
+    return inverse_table_[static_cast<size_t>((s - s_min_) * inv_table_step_ + 0.5)];
+  }
   // Mass of a cell on a beam that only clears space: e = 1 - r, Θ = r.
-  ScanMass clearMass() const;
+  ScanMass clearMass() const { return clear_mass_; }
 
   // pl(z) of one beam over `cells` (ordered outwards from the sensor), algorithm.md §3.
   double beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
@@ -117,12 +141,43 @@ class BeamModel {
   double integrateScan(const TracedScan& traced, EvidentialGridMap* map, ScanAccumulator* scratch,
                        double* conflict_mass_added = nullptr) const;
 
+  // What weighAndIntegrate found.
+  struct ScanEvidence {
+    double log_plausibility = 0.0;  // as scanLogPlausibility, on the map before this scan
+    double conflict_added_bits = 0.0;
+    double conflict_mass_added = 0.0;
+    uint64_t rays_bad = 0;
+    uint64_t rays_no_return = 0;
+  };
+  // traceScan, scanLogPlausibility (every `stride`-th hit beam) and integrateScan in one traversal
+  // of the beams, with the same results: the weight reads the map before the scan is applied.
+  // This is the filter's per-particle step; it never stores the traced cells.
+  ScanEvidence weighAndIntegrate(const Pose2& sensor_in_map, const LaserScan& scan,
+                                 EvidentialGridMap* map, ScanAccumulator* scratch,
+                                 int stride) const;
+
   // Distance past the hit that a hit beam is traced (and its cells updated).
   double traceBeyondHit() const { return beyond_hit_; }
 
  private:
-  void traceRay(const Eigen::Vector2d& origin, double angle, double length,
-                std::vector<RayCell>* out) const;
+  // One usable ray of a scan: from the sensor along `angle` for `length`; `range` and `hit` as in
+  // TracedBeam.
+  struct Ray {
+    double angle;
+    double length;
+    float range;
+    bool hit;
+  };
+  // Calls fn(ray) for every usable ray of `scan` (rules of traceScan); counts the others.
+  template <typename Fn>
+  void forEachRay(const Pose2& sensor_in_map, const LaserScan& scan, uint64_t* rays_bad,
+                  uint64_t* rays_no_return, Fn&& fn) const;
+  // Amanatides-Woo traversal: fn(cx, cy, distance of the cell centre along the ray) for every cell
+  // the ray crosses, outwards, up to `length`.
+  template <typename Fn>
+  void traverse(const Eigen::Vector2d& origin, double angle, double length, Fn&& fn) const;
+  // Half of the accumulator window: the longest ray, in cells.
+  int windowHalfCells() const;
 
   SensorModelConfig config_;
   double resolution_;
@@ -136,6 +191,7 @@ class BeamModel {
   // vacuous.
   double s_min_, s_max_;
   std::vector<ScanMass> inverse_table_;
+  ScanMass clear_mass_;
 };
 
 }  // namespace evidential_slam

@@ -34,9 +34,10 @@ namespace io {
 // the value stays finite (|value| <= 13.82). A vacuous cell gives 0 (BetP = 0.5).
 float occupancyLogOdds(const Cell& cell);
 
-// True when the stored belief is one a grid can hold: finite, m̃(o), m̃(e) in [0, 1],
-// m̃(o) + m̃(e) <= 1 (up to float rounding), λ >= 0.
-bool isValidCell(const Cell& cell);
+// True when a belief read from a file is one a grid can hold: finite, m̃(o) and m̃(e) in
+// [0, 1], m̃(o) + m̃(e) <= 1 (up to float rounding), λ >= 0. (The cell then rounds it to its
+// storage; the file holds floats.)
+bool isValidStoredCell(float occupied, float free, float lambda);
 
 class EvidentialOcTreeNode : public octomap::OcTreeNode {
  public:
@@ -55,8 +56,7 @@ class EvidentialOcTreeNode : public octomap::OcTreeNode {
 
   // Pruning merges children only when this is true for all of them: equal value and masses.
   bool operator==(const EvidentialOcTreeNode& rhs) const {
-    return value == rhs.value && cell_.occupied == rhs.cell_.occupied &&
-           cell_.free == rhs.cell_.free && cell_.lambda == rhs.cell_.lambda;
+    return value == rhs.value && cell_ == rhs.cell_;
   }
   void copyData(const EvidentialOcTreeNode& from) {
     OcTreeNode::copyData(from);
@@ -64,7 +64,7 @@ class EvidentialOcTreeNode : public octomap::OcTreeNode {
   }
 
   // File I/O of the payload (layout above). readData sets failbit on a short read and on values
-  // no grid can hold (a non-finite value, or !isValidCell).
+  // no grid can hold (a non-finite value, or !isValidStoredCell).
   std::istream& readData(std::istream& s);
   std::ostream& writeData(std::ostream& s) const;
 

@@ -36,13 +36,11 @@ float occupancyLogOdds(const Cell& cell) {
   return static_cast<float>(std::log(p / (1.0 - p)));
 }
 
-bool isValidCell(const Cell& c) {
-  if (!std::isfinite(c.occupied) || !std::isfinite(c.free) || !std::isfinite(c.lambda)) {
-    return false;
-  }
+bool isValidStoredCell(float occupied, float free, float lambda) {
+  if (!std::isfinite(occupied) || !std::isfinite(free) || !std::isfinite(lambda)) return false;
   const auto in_unit = [](float m) { return m >= -kMassTolerance && m <= 1.0f + kMassTolerance; };
-  return in_unit(c.occupied) && in_unit(c.free) && c.occupied + c.free <= 1.0f + kMassTolerance &&
-         c.lambda >= 0.0f;
+  return in_unit(occupied) && in_unit(free) && occupied + free <= 1.0f + kMassTolerance &&
+         lambda >= 0.0f;
 }
 
 // ---- node ---------------------------------------------------------------------------------------
@@ -52,15 +50,16 @@ std::istream& EvidentialOcTreeNode::readData(std::istream& s) {
   s.read(reinterpret_cast<char*>(v), sizeof(v));
   if (!s) return s;  // short read: eofbit and failbit are set
   value = v[0];
-  cell_.occupied = v[1];
-  cell_.free = v[2];
-  cell_.lambda = v[3];
-  if (!std::isfinite(value) || !isValidCell(cell_)) s.setstate(std::ios::failbit);
+  if (!std::isfinite(value) || !isValidStoredCell(v[1], v[2], v[3])) {
+    s.setstate(std::ios::failbit);
+    return s;
+  }
+  cell_ = Cell::fromStored(v[1], v[2], v[3]);
   return s;
 }
 
 std::ostream& EvidentialOcTreeNode::writeData(std::ostream& s) const {
-  const float v[4] = {value, cell_.occupied, cell_.free, cell_.lambda};
+  const float v[4] = {value, cell_.occupied(), cell_.free(), cell_.lambda()};
   return s.write(reinterpret_cast<const char*>(v), sizeof(v));
 }
 
@@ -125,7 +124,7 @@ bool EvidentialOcTree::readNodesRecurs(EvidentialOcTreeNode* node, unsigned dept
                     "node %llu holds values no grid can hold (log-odds %g, m~(o) %g, m~(e) %g, "
                     "lambda %g)",
                     static_cast<unsigned long long>(*count), node->getLogOdds(),
-                    node->cell().occupied, node->cell().free, node->cell().lambda);
+                    node->cell().occupied(), node->cell().free(), node->cell().lambda());
       *error = text;
     }
     return false;
