@@ -55,6 +55,26 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
   return added;
 }
 
+double ScanAccumulator::openSpaceConflict(const EvidentialGridMap& map, int radius) const {
+  auto believedFree = [](const Cell& c) { return c.free > c.occupied; };
+  double mass = 0.0;
+  for (const Touched& t : touched_) {
+    if (t.mass.occupied < 0.5f) continue;  // m̃(e) s(o) >= 1/2 needs s(o) >= 1/2
+    const Cell& c = map.cell(t.x, t.y);
+    if (static_cast<double>(c.free) * t.mass.occupied < 0.5) continue;
+    bool open = true;
+    for (int dy = -radius; dy <= radius && open; ++dy) {
+      for (int dx = -radius; dx <= radius && open; ++dx) open = believedFree(map.cell(t.x + dx, t.y + dy));
+    }
+    if (!open) continue;
+    // The m(∅) applyTo will add to this cell: e^{-λ} K.
+    const double k = static_cast<double>(c.occupied) * t.mass.free +
+                     static_cast<double>(c.free) * t.mass.occupied;
+    mass += std::exp(-static_cast<double>(c.lambda)) * k;
+  }
+  return mass;
+}
+
 BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
     : config_(config), resolution_(resolution) {
   const double sf = config_.forward_sigma, kf = config_.forward_window;
@@ -62,6 +82,7 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
   const double half_cell = 0.5 * resolution_;
   // A hit beam is traced until the forward window has fallen off and a few cells past the hit.
   beyond_hit_ = std::max(2.5 * resolution_, (kf + 4.0) * sf);
+  open_space_radius_ = std::max(1, static_cast<int>(std::ceil(kf * sf / resolution_ - 1e-9)));
 
   table_step_ = std::min(sf, si) / kTableStepsPerSigma;
   inv_table_step_ = 1.0 / table_step_;
@@ -218,8 +239,8 @@ void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
 }
 
 double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map,
-                                ScanAccumulator* scratch, double* conflict_mass_added) const {
-  if (conflict_mass_added != nullptr) *conflict_mass_added = 0.0;
+                                ScanAccumulator* scratch, ScanConflict* conflict) const {
+  if (conflict != nullptr) *conflict = ScanConflict{};
   if (traced.cells.empty()) return 0.0;
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
   const RayCell& first = traced.cells.front();
@@ -240,7 +261,9 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
     }
   }
   constexpr double kLn2 = 0.69314718055994530942;
-  return scratch->applyTo(map, conflict_mass_added) / kLn2;
+  if (conflict == nullptr) return scratch->applyTo(map) / kLn2;
+  conflict->open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
+  return scratch->applyTo(map, &conflict->mass_added) / kLn2;
 }
 
 }  // namespace evidential_slam

@@ -352,8 +352,10 @@ TEST(IntegrateScanTest, DempsterWithinScanConjunctiveBetweenScans) {
   EXPECT_NEAR(map.cell(40, 0).occupied, 0.62554889, 1e-3);  // second beam's hit
   EXPECT_NEAR(map.cell(10, 0).free, 0.96, 1e-6);            // two clear masses: 0.8 + 0.2 * 0.8
 
-  double mass_added = -1.0;
-  const double added_bits = model.integrateScan(traced, &map, &scratch, &mass_added);
+  ScanConflict conflict;
+  conflict.mass_added = -1.0;
+  const double added_bits = model.integrateScan(traced, &map, &scratch, &conflict);
+  const double mass_added = conflict.mass_added;
   EXPECT_NEAR(map.cell(20, 0).lambda, 0.35718190, 5e-3);
   // The map held no conflict before: the m(∅) added is all the m(∅) it holds now (cells 0..50).
   double conflict_mass = 0.0;
