@@ -9,12 +9,12 @@
 // and every cell within the forward model's hit window (BeamModel::openSpaceRadius) is believed
 // free. Not all the m(∅) a scan adds: that is dominated by the surface band of walls the robot
 // maps for the first times (cells partly wall, passed through by grazing beams and hit by others),
-// about 25 per scan while exploring and 4 when revisiting on the paper experiment, so a baseline
-// over exploration hides a moving object that adds as much. That surface-band conflict lies next
-// to cells the map holds occupied or unknown; a moving object in mapped free space, or a scan
+// several times more per scan while exploring than when revisiting, so a baseline that spans
+// exploration hides a moving object that adds as much. That surface-band conflict lies next to
+// cells the map holds occupied or has never seen; a moving object in mapped free space, or a scan
 // placed at a wrong pose, puts hits where the map holds open floor, which a correct scan of a
-// static world does not (0 on 229 of the experiment's 230 scans before its faults). The floor
-// `min_added` is in the same unit, roughly the number of open-space cells newly contradicted.
+// static world does not (README, "Conflict alarm", for the numbers). The floor `min_added` is in
+// the same unit, roughly the number of open-space cells newly contradicted.
 #pragma once
 
 #include <cstddef>
