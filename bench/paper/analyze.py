@@ -198,30 +198,38 @@ def main(world_dir, gt_path, faults_path, run_dir, out_dir):
         "ic_surface_band": ic_band, "ic_open_floor": ic_floor, "ic_wall_interior": ic_core,
         "holds": ic_band["mean"] >= 3 * max(ic_floor.get("mean", 0), ic_core.get("mean", 0))}
 
-    # Conflict alarm: detection delay after the kidnap, alarms during the moving object, and
-    # false alarms elsewhere (processed scans more than 5 s away from both faults).
-    conflict = read_rows(os.path.join(run_dir, "conflict.csv"), 6)
-    alarms = conflict[conflict[:, 5] > 0.5, 0]
+    # Conflict alarm: detection delay after the kidnap, coverage of the moving object's scans, and
+    # false alarms elsewhere. Fault windows: the moving object's [start, end] plus 5 s, and from the
+    # kidnap on (after it the robot maps the east corridor 2 m off to the end of the run, so the
+    # map stays inconsistent there).
+    conflict = read_rows(os.path.join(run_dir, "conflict.csv"), 7)
+    stamp, alarm = conflict[:, 0], conflict[:, 6] > 0.5
     rising = np.array(json.load(open(os.path.join(run_dir, "summary.json"))).get(
-        "conflict_alarms", []))
+        "conflict_alarms", []), dtype=float)
     tk = faults["kidnap_time"]
-    after = conflict[conflict[:, 0] >= tk]
-    first = np.where(after[:, 5] > 0.5)[0]
-    near = ((alarms >= tk - 1e-6) & (alarms <= tk + 30)) | ((alarms >= t0) & (alarms <= t1 + 5))
-    false_scans = alarms[~near]
+
+    def in_faults(t):
+        return ((t >= t0) & (t <= t1 + 5)) | (t >= tk - 1e-6)
+
+    after = np.where(stamp >= tk - 1e-6)[0]
+    first = np.where(alarm[after])[0]
+    during = (stamp >= t0) & (stamp <= t1)
+    first_mo = np.where(alarm[during])[0]
+    false_scans = stamp[alarm & ~in_faults(stamp)]
+    false_rising = rising[~in_faults(rising)] if rising.size else rising
     claims["conflict_alarm"] = {
         "kidnap_time": tk,
         "kidnap_detected_after_scans": int(first[0] + 1) if first.size else None,
-        "kidnap_detected_after_s": float(after[first[0], 0] - tk) if first.size else None,
-        "moving_object_alarm_scans": int(((alarms >= t0) & (alarms <= t1 + 5)).sum()),
-        "moving_object_scans": int(((conflict[:, 0] >= t0) & (conflict[:, 0] <= t1)).sum()),
+        "kidnap_detected_after_s": float(stamp[after[first[0]]] - tk) if first.size else None,
+        "moving_object_scans": int(during.sum()),
+        "moving_object_alarm_scans": int((alarm & during).sum()),
+        "moving_object_detected_after_scans": int(first_mo[0] + 1) if first_mo.size else None,
         "false_alarm_scans": int(false_scans.size),
-        "false_alarm_episodes": int(((rising < t0 - 1e-6) |
-                                     ((rising > t1 + 5) & (rising < tk - 1e-6)) |
-                                     (rising > tk + 30)).sum()) if rising.size else 0,
+        "false_alarm_episodes": int(false_rising.size),
+        "false_alarm_stamps": [float(t) for t in false_rising],
         "processed_scans": int(len(conflict)),
         "kidnap_detected_within_5_scans": bool(first.size and first[0] < 5),
-        "moving_object_detected": bool(((alarms >= t0) & (alarms <= t1 + 5)).any())}
+        "moving_object_detected": bool(first_mo.size > 0)}
 
     # The paper's claims; the alarm (beyond the paper) is reported beside them.
     claims["all_hold"] = all(c["holds"] for c in claims.values()

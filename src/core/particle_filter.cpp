@@ -123,8 +123,8 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   const BeamModel* beam_model = &modelsFor(scan).beam;
   beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
   FilterStepInfo info;
-  info.best_conflict_added_bits = beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator,
-                                                            &info.best_conflict_mass_added);
+  info.best_conflict_added_bits =
+      beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator, &info.best_conflict);
   auto root = std::make_shared<PathNode>();
   root->pose = pose;
   root->step = step;
@@ -264,7 +264,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
 
   // 4. Weight and map update, once per group.
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
-  std::vector<double> conflict_mass(leaders.size(), 0.0);
+  std::vector<ScanConflict> conflict_stats(leaders.size());
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
@@ -273,7 +273,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
                                       &ws.accumulator, config_.sensor.weight_beam_stride);
     log_pl[g] = evidence.log_plausibility;
     conflict_added[g] = evidence.conflict_added_bits;
-    conflict_mass[g] = evidence.conflict_mass_added;
+    conflict_stats[g] = evidence.conflict;
   });
 
   // 5. Members take their leader's pose, map (shared tiles) and path node.
@@ -300,7 +300,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
 
   FilterStepInfo info;
   info.best_conflict_added_bits = conflict_added[group_of[bestIndex()]];
-  info.best_conflict_mass_added = conflict_mass[group_of[bestIndex()]];
+  info.best_conflict = conflict_stats[group_of[bestIndex()]];
   resampleIfNeeded(&info);
   return info;
 }

@@ -92,7 +92,7 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
         if (conflict <= 0.0f) continue;
         // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
         // exp(-λ) K (exact increments; the stored λ is rounded).
-        added -= std::log1p(-std::min(static_cast<double>(conflict), 1.0 - 1e-9));
+        added -= std::log1p(-std::min(conflict, 1.0f - 1.0f / (1 << 24)));
         if (conflict_mass_added != nullptr) {
           mass += std::exp(-static_cast<double>(lambda_before)) * conflict;
         }
@@ -103,6 +103,37 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
   return added;
 }
 
+double ScanAccumulator::openSpaceConflict(const EvidentialGridMap& map, int radius) const {
+  auto believedFree = [](const Cell& c) { return c.free() > c.occupied(); };
+  double mass = 0.0;
+  for (uint32_t b = 0; b < used_blocks_; ++b) {
+    const Block& block = blocks_[b];
+    for (size_t w = 0; w < block.touched.size(); ++w) {
+      for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
+        const size_t k = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
+        const ScanMass& m = block.mass[k];
+        if (m.occupied < 0.5f) continue;  // m̃(e) s(o) >= 1/2 needs s(o) >= 1/2
+        const int x = (block.tile_x << kTileBits) | static_cast<int>(k & (kTileSize - 1));
+        const int y = (block.tile_y << kTileBits) | static_cast<int>(k >> kTileBits);
+        const Cell& c = map.cell(x, y);
+        if (static_cast<double>(c.free()) * m.occupied < 0.5) continue;
+        bool open = true;
+        for (int dy = -radius; dy <= radius && open; ++dy) {
+          for (int dx = -radius; dx <= radius && open; ++dx) {
+            open = believedFree(map.cell(x + dx, y + dy));
+          }
+        }
+        if (!open) continue;
+        // The m(∅) applyTo will add to this cell: e^{-λ} K.
+        const double conflict =
+            static_cast<double>(c.occupied()) * m.free + static_cast<double>(c.free()) * m.occupied;
+        mass += std::exp(-static_cast<double>(c.lambda())) * conflict;
+      }
+    }
+  }
+  return mass;
+}
+
 BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
     : config_(config), resolution_(resolution) {
   const double sf = config_.forward_sigma, kf = config_.forward_window;
@@ -110,6 +141,7 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
   const double half_cell = 0.5 * resolution_;
   // A hit beam is traced until the forward window has fallen off and a few cells past the hit.
   beyond_hit_ = std::max(2.5 * resolution_, (kf + 4.0) * sf);
+  open_space_radius_ = std::max(1, static_cast<int>(std::ceil(kf * sf / resolution_ - 1e-9)));
 
   table_step_ = std::min(sf, si) / kTableStepsPerSigma;
   inv_table_step_ = 1.0 / table_step_;
@@ -254,8 +286,8 @@ int BeamModel::windowHalfCells() const {
 }
 
 double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map,
-                                ScanAccumulator* scratch, double* conflict_mass_added) const {
-  if (conflict_mass_added != nullptr) *conflict_mass_added = 0.0;
+                                ScanAccumulator* scratch, ScanConflict* conflict) const {
+  if (conflict != nullptr) *conflict = ScanConflict{};
   if (traced.cells.empty()) return 0.0;
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
   const RayCell& first = traced.cells.front();
@@ -273,7 +305,9 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
       scratch->add(c.x, c.y, m);
     }
   }
-  return scratch->applyTo(map, conflict_mass_added) / kLn2;
+  if (conflict == nullptr) return scratch->applyTo(map) / kLn2;
+  conflict->open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
+  return scratch->applyTo(map, &conflict->mass_added) / kLn2;
 }
 
 BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
@@ -309,7 +343,8 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
     out.log_plausibility += std::log((1.0 - r) * pass.collected + r);
   });
   if (!any) return out;
-  out.conflict_added_bits = scratch->applyTo(map, &out.conflict_mass_added) / kLn2;
+  out.conflict.open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
+  out.conflict_added_bits = scratch->applyTo(map, &out.conflict.mass_added) / kLn2;
   return out;
 }
 

@@ -89,7 +89,8 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
   if (info.resampled) ++stats_.resamplings;
   out.processed = true;
   out.external_conflict_added = info.best_conflict_added_bits;
-  out.conflict_mass_added = info.best_conflict_mass_added;
+  out.conflict_mass_added = info.best_conflict.mass_added;
+  out.open_space_conflict_added = info.best_conflict.open_space_added;
   out.best_pose = bestPose();
   return out;
 }

@@ -65,6 +65,7 @@ class Run {
   struct ConflictRow {
     double stamp;
     double ec_bits;
+    double mass_added;
     ConflictAlarmState alarm;
   };
   std::vector<ConflictRow> conflict_rows_;
@@ -148,8 +149,9 @@ int Run::execute() {
     ++given;
     odometry_path_.push_back({item.scan.stamp, item.odometry});
     if (update.processed) {
-      const ConflictAlarmState state = alarm.update(update.conflict_mass_added);
-      conflict_rows_.push_back({item.scan.stamp, update.external_conflict_added, state});
+      const ConflictAlarmState state = alarm.update(update.open_space_conflict_added);
+      conflict_rows_.push_back(
+          {item.scan.stamp, update.external_conflict_added, update.conflict_mass_added, state});
       if (state.rising) summary_.conflict_alarm_stamps.push_back(item.scan.stamp);
     }
     if (update.rejected) {
@@ -259,13 +261,15 @@ bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
   {
     std::ofstream f(csv);
     f << "# per processed scan: stamp (s), the external conflict (bits) and the conflict mass m(0) "
-         "(summed over cells) it added to the best map, the alarm's running baseline of the "
-         "latter, their ratio, alarm (1 = above threshold)\n"
-      << "stamp,ec_added_bits,conflict_mass_added,baseline,ratio,alarm\n";
-    char line[160];
+         "(summed over cells) it added to the best map, the part of that mass added in the map's "
+         "open space (the alarm's input), the alarm's running baseline of it, their ratio, alarm "
+         "(1 = above threshold)\n"
+      << "stamp,ec_added_bits,conflict_mass_added,open_space_conflict_added,baseline,ratio,alarm\n";
+    char line[200];
     for (const ConflictRow& r : conflict_rows_) {
-      std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%d\n", r.stamp, r.ec_bits,
-                    r.alarm.added, r.alarm.baseline, r.alarm.ratio, r.alarm.alarm ? 1 : 0);
+      std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", r.stamp, r.ec_bits,
+                    r.mass_added, r.alarm.added, r.alarm.baseline, r.alarm.ratio,
+                    r.alarm.alarm ? 1 : 0);
       f << line;
     }
     f.close();

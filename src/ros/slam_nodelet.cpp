@@ -91,6 +91,8 @@ void SlamNodelet::onInit() {
   particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   conflict_pub_ = private_nh_.advertise<std_msgs::Float64>("conflict_added", 100);
+  open_space_conflict_pub_ =
+      private_nh_.advertise<std_msgs::Float64>("open_space_conflict_added", 100);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   alarm_.setConfig(params_.conflict_alarm);
 
@@ -301,18 +303,22 @@ void SlamNodelet::reportConflict(const ScanUpdate& update, const ros::Time& stam
   ConflictAlarmState state;
   {
     std::lock_guard<std::mutex> lock(alarm_mutex_);
-    state = alarm_.update(update.conflict_mass_added);
+    state = alarm_.update(update.open_space_conflict_added);
   }
   std_msgs::Float64 added;
-  added.data = state.added;
+  added.data = update.conflict_mass_added;
   conflict_pub_.publish(added);
+  added.data = state.added;
+  open_space_conflict_pub_.publish(added);
 
-  char message[200];
+  char message[256];
   if (state.alarm) {
     std::snprintf(message, sizeof(message),
                   "localisation failure or environment change: the scan added %.1f of conflict "
-                  "mass (%.1f bits of external conflict), %.1f x its running baseline (%.2f)",
-                  state.added, update.external_conflict_added, state.ratio, state.baseline);
+                  "mass in the map's open space (running baseline %.2f; %.1f in all, %.1f bits of "
+                  "external conflict)",
+                  state.added, state.baseline, update.conflict_mass_added,
+                  update.external_conflict_added);
   } else {
     std::snprintf(message, sizeof(message), "external conflict as usual");
   }
@@ -332,7 +338,8 @@ void SlamNodelet::reportConflict(const ScanUpdate& update, const ros::Time& stam
     kv.value = std::to_string(v);
     status.values.push_back(kv);
   };
-  value("conflict_mass_added", state.added);
+  value("conflict_mass_added", update.conflict_mass_added);
+  value("open_space_conflict_added", state.added);
   value("ec_added_bits", update.external_conflict_added);
   value("baseline", state.baseline);
   value("ratio", state.ratio);

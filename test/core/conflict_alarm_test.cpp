@@ -1,10 +1,153 @@
-// Tests of the conflict alarm (conflict_alarm.h) on hand-made EC sequences.
+// Tests of the conflict alarm (conflict_alarm.h): its input, the conflict mass a scan adds in the
+// map's open space (ScanConflict::open_space_added, sensor_model.h), on hand-built maps; and the
+// alarm itself on hand-made sequences.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "evidential_slam/core/conflict_alarm.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/sensor_model.h"
 
 namespace evidential_slam {
 namespace {
+
+constexpr double kRes = 0.05;
+// Cells store m̃ in steps of 1/65535 and λ as a half float: sums over them computed from the
+// nominal values agree to ~1e-4.
+constexpr double kStored = 1e-4;
+
+Cell makeCell(float occupied, float free, float lambda = 0.0f) {
+  return Cell::fromStored(occupied, free, lambda);
+}
+
+// Cells (x, y) for x, y in [-10, 10] hold `c`.
+EvidentialGridMap filledMap(const Cell& c) {
+  EvidentialGridMap map(kRes);
+  for (int y = -10; y <= 10; ++y) {
+    for (int x = -10; x <= 10; ++x) map.mutableCell(x, y) = c;
+  }
+  return map;
+}
+
+ScanMass scanMass(float occupied, float free) {
+  ScanMass m;
+  m.occupied = occupied;
+  m.free = free;
+  return m;
+}
+
+// Per touched cell with m̃(e)s(o) >= 1/2 whose (2r+1)^2 neighbourhood is all m̃(e) > m̃(o), the
+// m(∅) the update adds: e^{-λ} (m̃(o)s(e) + m̃(e)s(o)).
+TEST(OpenSpaceConflict, HitsOnOpenFloorCountWhatTheyAdd) {
+  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+  map.mutableCell(3, 0) = makeCell(0.05f, 0.9f, static_cast<float>(std::log(2.0)));
+  ScanAccumulator acc;
+  acc.reset(CellIndex{0, 0}, 8);
+  acc.add(0, 0, scanMass(0.8f, 0.0f));   // K = 0.99 * 0.8 = 0.792
+  acc.add(3, 0, scanMass(0.7f, 0.1f));   // K = 0.05 * 0.1 + 0.9 * 0.7 = 0.635, e^{-λ} = 1/2
+  acc.add(-3, 0, scanMass(0.5f, 0.0f));  // m̃(e)s(o) = 0.495 < 1/2: not counted
+  acc.add(0, 3, scanMass(0.0f, 0.8f));   // clear: agrees, nothing
+  acc.add(0, -3, scanMass(0.19f, 0.0f));  // the hit's side mass: below 1/2
+  const double expected = 0.792 + 0.5 * 0.635;
+  EXPECT_NEAR(acc.openSpaceConflict(map, 2), expected, kStored);
+
+  // It is the m(∅) applyTo then adds on those two cells, and part of the total.
+  const double before = -std::expm1(-static_cast<double>(map.cell(0, 0).lambda())) -
+                        std::expm1(-static_cast<double>(map.cell(3, 0).lambda()));
+  double total = 0.0;
+  acc.applyTo(&map, &total);
+  const double after = -std::expm1(-static_cast<double>(map.cell(0, 0).lambda())) -
+                       std::expm1(-static_cast<double>(map.cell(3, 0).lambda()));
+  EXPECT_NEAR(after - before, expected, kStored);
+  EXPECT_GT(total, expected - 1e-6);
+  EXPECT_NEAR(total, expected + 0.495 * 1.0 + 0.19 * 0.99, kStored);  // + the two weak hits
+}
+
+// A hit within `radius` cells of a cell the map does not hold free (occupied, or never observed)
+// is next to a surface the map knows: not open space. Radius 2: a cell 2 away excludes it, 3 away
+// does not.
+TEST(OpenSpaceConflict, HitsNextToSurfacesOrTheUnknownDoNotCount) {
+  const ScanMass hit = scanMass(0.8f, 0.0f);
+  auto conflictWith = [&hit](int dx, int dy, const Cell& neighbour) {
+    EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+    map.mutableCell(dx, dy) = neighbour;
+    ScanAccumulator acc;
+    acc.reset(CellIndex{0, 0}, 8);
+    acc.add(0, 0, hit);
+    return acc.openSpaceConflict(map, 2);
+  };
+  const Cell wall = makeCell(0.6f, 0.3f);
+  const Cell unknown;  // vacuous: m̃(e) = m̃(o) = 0, not believed free
+  const Cell balanced = makeCell(0.4f, 0.4f);
+  EXPECT_NEAR(conflictWith(5, 5, wall), 0.792, kStored);
+  EXPECT_EQ(conflictWith(1, 0, wall), 0.0);
+  EXPECT_EQ(conflictWith(2, -2, wall), 0.0);
+  EXPECT_NEAR(conflictWith(3, 0, wall), 0.792, kStored);
+  EXPECT_NEAR(conflictWith(0, -3, wall), 0.792, kStored);
+  EXPECT_EQ(conflictWith(-1, 1, unknown), 0.0);
+  EXPECT_EQ(conflictWith(0, 2, balanced), 0.0);
+  // The observed map ends at x = 10: a hit at x = 9 counts with radius 1, not with radius 2.
+  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+  ScanAccumulator acc;
+  acc.reset(CellIndex{9, 0}, 8);
+  acc.add(9, 0, hit);
+  EXPECT_EQ(acc.openSpaceConflict(map, 2), 0.0);
+  EXPECT_NEAR(acc.openSpaceConflict(map, 1), 0.792, kStored);
+}
+
+// The radius is the forward model's hit window in cells: ceil(k_f σ_f / Δ).
+TEST(OpenSpaceConflict, RadiusIsTheForwardHitWindow) {
+  SensorModelConfig c;
+  c.forward_sigma = 0.025;
+  c.forward_window = 3.0;
+  EXPECT_EQ(BeamModel(c, 0.05).openSpaceRadius(), 2);  // 0.075 m / 0.05 m = 1.5
+  EXPECT_EQ(BeamModel(c, 0.1).openSpaceRadius(), 1);   // 0.75
+  EXPECT_EQ(BeamModel(c, 0.025).openSpaceRadius(), 3);  // exactly 3
+  c.forward_sigma = 0.05;
+  EXPECT_EQ(BeamModel(c, 0.05).openSpaceRadius(), 3);
+}
+
+// integrateScan: one beam of 1.0 m along +x from (0.025, 0.025) ends at the centre of cell
+// (20, 0), where the inverse model puts o = 0.62554889 (sensor_model_test.cpp). On open floor
+// (m̃(e) = 0.99) only that cell passes m̃(e)s(o) >= 1/2: open_space_added = 0.99 * 0.62554889;
+// with a wall cell 2 cells beyond the hit, nothing is in open space, though as much m(∅) is added.
+TEST(OpenSpaceConflict, IntegrateScanReportsIt) {
+  SensorModelConfig config;
+  config.hit_sigma = config.forward_sigma = 0.025;
+  config.forward_window = config.free_gap = 3.0;
+  config.random_weight = 0.2;
+  config.prior_occupied = 0.4;
+  const BeamModel model(config, kRes);
+  LaserScan scan;
+  scan.max_range = 30.0f;
+  scan.ranges = {1.0f};
+  scan.bearings = {0.0f};
+  scan.valid = {1};
+  TracedScan traced;
+  model.traceScan(Pose2(0.025, 0.025, 0.0), scan, &traced);
+  auto floorMap = [] {
+    EvidentialGridMap map(kRes);
+    for (int y = -5; y <= 5; ++y) {
+      for (int x = -5; x <= 40; ++x) map.mutableCell(x, y) = makeCell(0.0f, 0.99f);
+    }
+    return map;
+  };
+  ScanAccumulator scratch;
+  EvidentialGridMap open = floorMap();
+  ScanConflict conflict;
+  model.integrateScan(traced, &open, &scratch, &conflict);
+  EXPECT_NEAR(conflict.open_space_added, 0.99 * 0.62554889, 1e-3);
+  EXPECT_GT(conflict.mass_added, conflict.open_space_added);
+
+  EvidentialGridMap walled = floorMap();
+  walled.mutableCell(22, 0) = makeCell(0.9f, 0.0f);
+  ScanConflict near_wall;
+  model.integrateScan(traced, &walled, &scratch, &near_wall);
+  EXPECT_EQ(near_wall.open_space_added, 0.0);
+  EXPECT_NEAR(near_wall.mass_added, conflict.mass_added, 0.01);  // cell 22's o is ~0.002
+}
 
 ConflictAlarmConfig smallConfig() {
   ConflictAlarmConfig c;
@@ -59,6 +202,29 @@ TEST(ConflictAlarm, QuietDuringWarmupBelowFloorAndWhenDisabled) {
   ConflictAlarm disabled(off);
   for (int i = 0; i < 5; ++i) disabled.update(1.0);
   EXPECT_FALSE(disabled.update(1000.0).alarm);
+}
+
+// The input is ~0 on a consistent run, so the baseline is 0 and the floor decides: with the
+// defaults (floor 5, factor 4) 4.9 stays quiet, 22 (a person beside the robot) alarms.
+TEST(ConflictAlarm, ZeroBaselineLeavesItToTheFloor) {
+  const ConflictAlarmConfig defaults;
+  EXPECT_EQ(defaults.min_added, 5.0);
+  EXPECT_EQ(defaults.threshold_factor, 4.0);
+  EXPECT_EQ(defaults.baseline_scans, 50);
+  EXPECT_EQ(defaults.warmup_scans, 10);
+  ConflictAlarm alarm(defaults);
+  for (int i = 0; i < 9; ++i) EXPECT_FALSE(alarm.update(0.0).alarm);
+  EXPECT_FALSE(alarm.update(30.0).alarm);  // 10th scan: 9 in the baseline, still warming up
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);  // median of {0 x 9, 30}
+  EXPECT_FALSE(alarm.update(4.9).alarm);
+  const ConflictAlarmState s = alarm.update(22.0);
+  EXPECT_TRUE(s.alarm);
+  EXPECT_TRUE(s.rising);
+  EXPECT_DOUBLE_EQ(s.baseline, 0.0);
+  EXPECT_DOUBLE_EQ(s.ratio, 0.0);  // no ratio to a zero baseline
+  // A fault that persists keeps alarming: its scans never enter the baseline.
+  for (int i = 0; i < 60; ++i) EXPECT_TRUE(alarm.update(9.0).alarm) << i;
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);
 }
 
 TEST(ConflictAlarm, ResetAndValidation) {

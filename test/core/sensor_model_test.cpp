@@ -348,8 +348,10 @@ TEST(IntegrateScanTest, DempsterWithinScanConjunctiveBetweenScans) {
   EXPECT_NEAR(map.cell(40, 0).occupied(), 0.62554889, 1e-3);  // second beam's hit
   EXPECT_NEAR(map.cell(10, 0).free(), 0.96, 1e-5);            // two clear masses: 0.8 + 0.2 * 0.8
 
-  double mass_added = -1.0;
-  const double added_bits = model.integrateScan(traced, &map, &scratch, &mass_added);
+  ScanConflict conflict;
+  conflict.mass_added = -1.0;
+  const double added_bits = model.integrateScan(traced, &map, &scratch, &conflict);
+  const double mass_added = conflict.mass_added;
   EXPECT_NEAR(map.cell(20, 0).lambda(), 0.35718190, 5e-3);
   // The map held no conflict before: the m(∅) added is all the m(∅) it holds now (cells 0..50),
   // up to the half-float rounding of the stored λ (relative 2^-11).
@@ -452,8 +454,8 @@ TEST(IntegrateScanTest, WeighAndIntegrateEqualsTheSeparateSteps) {
     EvidentialGridMap separate = base, fused = base;
     model.traceScan(second, scan, &traced);
     const double log_pl = model.scanLogPlausibility(separate, traced, stride);
-    double mass = 0.0;
-    const double bits = model.integrateScan(traced, &separate, &scratch, &mass);
+    ScanConflict conflict;
+    const double bits = model.integrateScan(traced, &separate, &scratch, &conflict);
 
     const BeamModel::ScanEvidence e =
         model.weighAndIntegrate(second, scan, &fused, &scratch, stride);
@@ -461,7 +463,8 @@ TEST(IntegrateScanTest, WeighAndIntegrateEqualsTheSeparateSteps) {
     EXPECT_LT(log_pl, -10.0);  // the wrong pose is penalised
     EXPECT_DOUBLE_EQ(e.conflict_added_bits, bits);
     EXPECT_GT(bits, 1.0);
-    EXPECT_DOUBLE_EQ(e.conflict_mass_added, mass);
+    EXPECT_DOUBLE_EQ(e.conflict.mass_added, conflict.mass_added);
+    EXPECT_DOUBLE_EQ(e.conflict.open_space_added, conflict.open_space_added);
     CellBox box = separate.observedBox();
     box.extend(fused.observedBox());
     expectSameCells(separate, fused, box);

@@ -153,7 +153,8 @@ TEST_F(OfflineE2E, ActionsSensoryFrameFixture) {
   const std::string csv = test::readText(out / "conflict.csv");
   size_t rows = 0;
   for (size_t p = csv.find('\n'); p != std::string::npos; p = csv.find('\n', p + 1)) ++rows;
-  EXPECT_NE(csv.find("stamp,ec_added_bits,conflict_mass_added,baseline,ratio,alarm\n"),
+  EXPECT_NE(csv.find("stamp,ec_added_bits,conflict_mass_added,open_space_conflict_added,baseline,"
+                     "ratio,alarm\n"),
             std::string::npos);
   EXPECT_EQ(rows, 2 + j["scans_processed"].get<size_t>());  // comment, header, rows
   ASSERT_TRUE(j.contains("conflict_alarms"));

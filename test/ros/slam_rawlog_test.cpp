@@ -9,12 +9,14 @@
 #include <mutex>
 #include <thread>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -35,6 +37,9 @@ struct Observed {
   EvidentialGrid::ConstPtr grid;
   nav_msgs::OccupancyGrid::ConstPtr map;
   geometry_msgs::PoseWithCovarianceStamped::ConstPtr pose;
+  // Conflict alarm: per processed scan, ~conflict_added, ~open_space_conflict_added, a status.
+  std::vector<double> conflict_added, open_space_added;
+  std::vector<diagnostic_msgs::DiagnosticStatus> alarm_status;
 };
 
 Observed* observed = nullptr;
@@ -132,6 +137,26 @@ TEST(SlamRawlog, MapsTheLogThroughRos) {
   // The offline runner's bound for the same log and settings (test/io/offline_e2e_test.cpp).
   EXPECT_LT(ate.rmse, 0.15);
   RecordProperty("ate_rmse_m", std::to_string(ate.rmse));
+
+  // The conflict alarm reported every processed scan (one path message each; a message may miss
+  // a connection made late), the open-space part never above the total, and nothing alarmed on
+  // this clean log.
+  std::lock_guard<std::mutex> lock(observed->mutex);
+  const double processed = static_cast<double>(observed->path_sizes.size());
+  EXPECT_NEAR(static_cast<double>(observed->conflict_added.size()), processed, 2.0);
+  EXPECT_NEAR(static_cast<double>(observed->open_space_added.size()), processed, 2.0);
+  EXPECT_NEAR(static_cast<double>(observed->alarm_status.size()), processed, 2.0);
+  double total = 0.0, open_space = 0.0;
+  for (double v : observed->conflict_added) total += v;
+  for (double v : observed->open_space_added) open_space += v;
+  EXPECT_GT(total, 0.0);
+  EXPECT_LE(open_space, total);
+  for (const auto& status : observed->alarm_status) {
+    EXPECT_EQ(status.level, diagnostic_msgs::DiagnosticStatus::OK) << status.message;
+    bool has_input = false;
+    for (const auto& kv : status.values) has_input |= kv.key == "open_space_conflict_added";
+    EXPECT_TRUE(has_input);
+  }
 }
 
 dynamic_reconfigure::Reconfigure::Response reconfigure(
@@ -204,6 +229,24 @@ int main(int argc, char** argv) {
       [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(obs.mutex);
         obs.pose = m;
+      });
+  auto conflict = nh.subscribe<std_msgs::Float64>(
+      "/evidential_slam/conflict_added", 1000, [&](const std_msgs::Float64::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.conflict_added.push_back(m->data);
+      });
+  auto open_space = nh.subscribe<std_msgs::Float64>(
+      "/evidential_slam/open_space_conflict_added", 1000,
+      [&](const std_msgs::Float64::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.open_space_added.push_back(m->data);
+      });
+  auto diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 1000, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        for (const auto& s : m->status) {
+          if (s.name.find("external conflict") != std::string::npos) obs.alarm_status.push_back(s);
+        }
       });
   ros::AsyncSpinner spinner(2);
   spinner.start();

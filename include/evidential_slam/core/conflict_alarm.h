@@ -2,10 +2,19 @@
 // adds some conflict to the map; a localisation failure or a change of the environment makes a
 // scan contradict the map far more than usual. The alarm compares what each scan added with a
 // running baseline (the median of recent non-alarming scans) and fires when it exceeds it by a
-// factor. Its input is the conflict mass m(∅) the scan added, summed over cells
-// (ScanUpdate::conflict_mass_added): unlike EC in bits, which grows without bound on cells that
-// already conflict and so is dominated by the same few cells scan after scan, it counts how many
-// cells newly conflict.
+// factor and a floor.
+//
+// Its input is the conflict mass m(∅) the scan added in the map's open space
+// (ScanConflict::open_space_added): on cells where the scan puts an obstacle (m̃(e)s(o) >= 1/2)
+// and every cell within the forward model's hit window (BeamModel::openSpaceRadius) is believed
+// free. Not all the m(∅) a scan adds: that is dominated by the surface band of walls the robot
+// maps for the first times (cells partly wall, passed through by grazing beams and hit by others),
+// several times more per scan while exploring than when revisiting, so a baseline that spans
+// exploration hides a moving object that adds as much. That surface-band conflict lies next to
+// cells the map holds occupied or has never seen; a moving object in mapped free space, or a scan
+// placed at a wrong pose, puts hits where the map holds open floor, which a correct scan of a
+// static world does not (README, "Conflict alarm", for the numbers). The floor `min_added` is in
+// the same unit, roughly the number of open-space cells newly contradicted.
 #pragma once
 
 #include <cstddef>
@@ -18,14 +27,14 @@ struct ConflictAlarmConfig {
   bool enabled = true;
   int baseline_scans = 50;  // processed scans in the running baseline (median)
   int warmup_scans = 10;    // no alarm before the baseline holds this many (or baseline_scans)
-  double threshold_factor = 4.0;  // alarm when EC added > factor * baseline
-  double min_added = 1.0;         // ... and above this floor (m(∅) summed over cells)
+  double threshold_factor = 4.0;  // alarm when the input > factor * baseline
+  double min_added = 5.0;         // ... and above this floor (m(∅) summed over cells: ~cells)
 
   bool isValid(std::string* why) const;
 };
 
 struct ConflictAlarmState {
-  double added = 0.0;     // what this scan added (the alarm's input)
+  double added = 0.0;     // what this scan added in open space (the alarm's input)
   double baseline = 0.0;  // running baseline before this scan
   double ratio = 0.0;     // added / baseline (0 while the baseline is 0)
   bool alarm = false;     // this scan is above the threshold

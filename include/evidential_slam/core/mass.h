@@ -72,7 +72,10 @@ class Cell {
     occupied_ = static_cast<uint16_t>(o * 65535.0f + 0.5f);
     free_ = static_cast<uint16_t>(std::min(e * 65535.0f + 0.5f, 65535.0f - occupied_));
   }
-  void setLambda(float lambda) { lambda_ = Eigen::half(std::max(lambda, 0.0f)); }
+  // Clamped to [0, 65504], the largest finite half float.
+  void setLambda(float lambda) {
+    lambda_ = Eigen::half(std::min(std::max(lambda, 0.0f), 65504.0f));
+  }
 
   Mass toMass() const;  // the explicit masses m(∅), m(o), m(e), m(Θ)
   static Cell fromMass(const Mass& m);
@@ -104,9 +107,12 @@ inline float updateCell(Cell& cell, const ScanMass& scan, float* lambda_before =
   cell.setMasses((c_o * (scan.occupied + s_u) + c_u * scan.occupied) / norm,
                  (c_e * (scan.free + s_u) + c_u * scan.free) / norm);
   if (k > 0.0f) {
+    // K = 1 (certain, opposite masses) would make λ infinite: capped at the largest float below 1
+    // (λ += 16.6 nats).
+    constexpr float kMaxConflict = 1.0f - 1.0f / (1 << 24);
     const float before = cell.lambda();
     if (lambda_before != nullptr) *lambda_before = before;
-    cell.setLambda(before - std::log1p(-std::min(k, 1.0f - 1e-9f)));
+    cell.setLambda(before - std::log1p(-std::min(k, kMaxConflict)));
   }
   return k;
 }

@@ -11,6 +11,7 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/pose2.h"
+#include "evidential_slam/core/sensor_model.h"
 
 namespace evidential_slam {
 
@@ -41,7 +42,7 @@ struct FilterStepInfo {
   bool resampled = false;
   double effective_sample_size = 0.0;
   double best_conflict_added_bits = 0.0;
-  double best_conflict_mass_added = 0.0;  // m(∅) the scan added to the best map, summed
+  ScanConflict best_conflict;  // what the scan did to the best map's conflict
 };
 
 class ParticleFilter {

@@ -40,6 +40,19 @@ struct TracedScan {
   void clear();
 };
 
+// What integrating one scan did to a map's conflict (the conflict alarm's inputs,
+// conflict_alarm.h).
+struct ScanConflict {
+  // Σ over the touched cells of the increase of m(∅) = 1 - exp(-λ): e^{-λ} K per cell, with
+  // K = m̃(o)s(e) + m̃(e)s(o) the conflict of that cell's update.
+  double mass_added = 0.0;
+  // The part of it added on cells where the scan puts an obstacle into the map's open space:
+  // m̃(e)s(o) >= 1/2 and every cell within BeamModel::openSpaceRadius() (the cell included) is
+  // believed more free than occupied, m̃(e) > m̃(o). A correctly placed scan of a static world
+  // adds (almost) none of it: its hits fall on or next to surfaces the map holds.
+  double open_space_added = 0.0;
+};
+
 // Scratch for fusing one scan's beams cell by cell (Dempster's rule) before the single
 // conjunctive update of each touched map cell. Sparse and laid out in the map's tiles: a block per
 // map tile the scan touches, so the map is then updated tile by tile (one copy-on-write check per
@@ -47,6 +60,7 @@ struct TracedScan {
 class ScanAccumulator {
  public:
   static constexpr int kTileBits = EvidentialGridMap::kTileBits;
+  static constexpr int kTileSize = EvidentialGridMap::kTileSize;
   static constexpr int kTileCells = EvidentialGridMap::kTileCells;
 
   // Starts a scan whose cells lie within `half_size` cells of `center`.
@@ -79,6 +93,10 @@ class ScanAccumulator {
   // added (nats, summed over cells) and, if asked, the conflict mass m(∅) added (summed).
   double applyTo(EvidentialGridMap* map, double* conflict_mass_added = nullptr) const;
   size_t touched() const;
+  // Before applyTo: the conflict mass applying the scan will add on cells where it puts an obstacle
+  // into `map`'s open space (ScanConflict::open_space_added), with open space checked `radius`
+  // cells around each cell. Reads the map only, and only around strongly contradicted hits.
+  double openSpaceConflict(const EvidentialGridMap& map, int radius) const;
 
  private:
   struct Slot {
@@ -135,17 +153,23 @@ class BeamModel {
   void traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const;
   // Inverse model of a traced scan, fused within the scan by Dempster's rule, into `map` by the
   // conjunctive rule, each touched cell once. Returns the external conflict added (bits) and, if
-  // asked, the conflict mass m(∅) added over the touched cells. EC is unbounded: a cell that
-  // already conflicts gains many bits from every contradicting scan; m(∅) stays in [0, 1] per
-  // cell, so its sum says how many cells newly conflict (the conflict alarm's input).
+  // asked, the conflict mass m(∅) added over the touched cells and its open-space part
+  // (ScanConflict). EC is unbounded: a cell that already conflicts gains many bits from every
+  // contradicting scan; m(∅) stays in [0, 1] per cell, so its sum says how many cells newly
+  // conflict.
   double integrateScan(const TracedScan& traced, EvidentialGridMap* map, ScanAccumulator* scratch,
-                       double* conflict_mass_added = nullptr) const;
+                       ScanConflict* conflict = nullptr) const;
+
+  // Cells around a hit within which the forward model's hit window reaches,
+  // ceil(forward_window * forward_sigma / resolution): a hit this close to a cell the map does not
+  // hold free is plausible, farther in open space it is not (ScanConflict::open_space_added).
+  int openSpaceRadius() const { return open_space_radius_; }
 
   // What weighAndIntegrate found.
   struct ScanEvidence {
     double log_plausibility = 0.0;  // as scanLogPlausibility, on the map before this scan
     double conflict_added_bits = 0.0;
-    double conflict_mass_added = 0.0;
+    ScanConflict conflict;
     uint64_t rays_bad = 0;
     uint64_t rays_no_return = 0;
   };
@@ -182,6 +206,7 @@ class BeamModel {
   SensorModelConfig config_;
   double resolution_;
   double beyond_hit_;
+  int open_space_radius_;
   // g(δ) on [-g_half_, g_half_] with step table_step_.
   double g_half_;
   double table_step_;

@@ -58,9 +58,10 @@ class SlamNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
 
   ros::Publisher pose_pub_, particles_pub_, path_pub_;
-  // Conflict alarm: per processed scan, the conflict it added (~conflict_added) and a
-  // diagnostic_msgs status on /diagnostics; a warning when a new alarm rises.
-  ros::Publisher conflict_pub_, diagnostics_pub_;
+  // Conflict alarm: per processed scan, the conflict it added (~conflict_added), the part in the
+  // map's open space that the alarm watches (~open_space_conflict_added) and a diagnostic_msgs
+  // status on /diagnostics; a warning when a new alarm rises.
+  ros::Publisher conflict_pub_, open_space_conflict_pub_, diagnostics_pub_;
   std::mutex alarm_mutex_;
   ConflictAlarm alarm_;
   ros::ServiceServer save_map_srv_, get_map_srv_;
