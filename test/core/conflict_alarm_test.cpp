@@ -14,7 +14,7 @@ namespace evidential_slam {
 namespace {
 
 constexpr double kRes = 0.05;
-// Cells store m̃ in steps of 1/65535 and λ as a half float: sums over them computed from the
+// Cells store m̃ in steps of 1/(2^24 - 1) and λ as a half float: sums over them computed from the
 // nominal values agree to ~1e-4.
 constexpr double kStored = 1e-4;
 

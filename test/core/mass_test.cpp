@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kExact = 1e-12;  // double arithmetic on Mass
 constexpr double kFloat = 1e-6;   // values stored as float in ScanMass
-// Cell storage: m̃(o), m̃(e) in steps of 1/65535 (a few roundings in a sequence) ...
+// Cell storage: m̃(o), m̃(e) in steps of 1/(2^24 - 1) (float-like near certainty) ...
 constexpr double kStored = 5e-5;
 // ... and λ as a half float (11 significant bits).
 double lambdaTolerance(double lambda) { return 1e-3 * lambda + 1e-7; }
@@ -323,7 +323,8 @@ TEST(CellTest, AlternatingUpdatesNeverSaturate) {
 
 // toMass() of a cell whose stored pair sums to 1 (unknown() == 0) must not return a negative m(Θ):
 // (o, e) = (0.0011497404f, 0.99885029f) is a state the alternating-update test reached with float
-// storage (update 21); stored, the pair rounds to 75 + 65460 = 65535 steps, m̃(Θ) = 0 exactly.
+// storage (update 21); stored, the pair rounds to 19289 + 16757926 = 2^24 - 1 steps: m̃(Θ) = 0
+// exactly.
 TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
   Cell c = Cell::fromStored(0.0011497404193505645f, 0.99885028600692749f, 10.935624122619629f);
   ASSERT_EQ(c.unknown(), 0.0f);
@@ -365,21 +366,28 @@ TEST(CellTest, AlternatingBalancedUpdatesStayFinite) {
   EXPECT_NEAR(c.free(), 0.5, 1e-3);
 }
 
-// Storage: masses round to the nearest 1/65535 with the pair kept in the simplex (m̃(Θ) >= 0
+// Storage: masses round to the nearest 1/(2^24 - 1) with the pair kept in the simplex (m̃(Θ) >= 0
 // exactly), out-of-range inputs are clamped, λ is a half float and never negative.
 TEST(CellTest, StorageRoundsIntoTheSimplex) {
+  constexpr double kSteps = 16777215.0;
   const Cell a = Cell::fromStored(0.3f, 0.5f, 0.0f);
-  EXPECT_EQ(a.occupied(), 19661.0f / 65535.0f);       // 0.3 * 65535 = 19660.5 -> 19661
-  EXPECT_EQ(a.free(), 32768.0f / 65535.0f);           // 32767.5 -> 32768
+  // 0.3f (0.30000001) * (2^24 - 1) = 5033164.7 -> 5033165; 0.5 * (2^24 - 1) = 8388607.5 -> 8388608
+  EXPECT_EQ(a.occupied(), static_cast<float>(5033165.0 / kSteps));
+  EXPECT_EQ(a.free(), static_cast<float>(8388608.0 / kSteps));
+  EXPECT_EQ(a.unknown(), static_cast<float>(3355442.0 / kSteps));
   const Cell b = Cell::fromStored(0.6f, 0.6f, 0.0f);  // sums to 1.2: free gets the remainder
   EXPECT_EQ(b.unknown(), 0.0f);
-  EXPECT_EQ(b.occupied(), 39321.0f / 65535.0f);
+  EXPECT_NEAR(b.occupied(), 0.6, 1e-7);
+  EXPECT_NEAR(b.free(), 0.4, 1e-7);
   const Cell c = Cell::fromStored(-0.1f, 1.5f, -2.0f);
   EXPECT_EQ(c.occupied(), 0.0f);
   EXPECT_EQ(c.free(), 1.0f);
   EXPECT_EQ(c.lambda(), 0.0f);
   EXPECT_EQ(Cell::fromStored(0.0f, 0.0f, 1.0f / 3.0f).lambda(), 0.333251953125f);  // 11 bits
-  EXPECT_EQ(sizeof(Cell), 6u);
+  EXPECT_EQ(Cell::fromStored(0.0f, 0.0f, 1e6f).lambda(), 65504.0f);  // the largest half float
+  // Near certainty as fine as a float: m̃(Θ) = 1e-6 survives.
+  EXPECT_NEAR(Cell::fromStored(0.0f, 1.0f - 1e-6f, 0.0f).unknown(), 1e-6, 1e-7);
+  EXPECT_EQ(sizeof(Cell), 8u);
 }
 
 // A certainly free cell (m̃(e) = 1) is a fixed point of every scan mass without m(o): updateCell
