@@ -24,6 +24,11 @@ constexpr int kWideMatchBeamStride = 2;
 // is skipped. The floor is log r = -1.6 (a random reading); measured on intel (250 scans, K = 30):
 // -0.3 keeps the full search's accuracy (0.16 m) at 85 % of its time, -0.5 loses it (1.1 m).
 constexpr double kExplainedLogPlausibilityPerBeam = -0.3;
+// Particles whose poses differ by less than these fractions of the matcher's search radius and of
+// the wide match's heading step share one wide-basin match (well inside what each particle's own
+// refinement recovers: ICP captures about a search radius and a few degrees).
+constexpr double kClusterRadiusFraction = 0.25;   // 0.1 m at the default 0.4 m
+constexpr double kClusterHeadingFraction = 0.25;  // 1.25° at the default 5°
 }  // namespace
 
 PathNode::~PathNode() {
@@ -139,57 +144,101 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   return info;
 }
 
-Pose2 ParticleFilter::wideMatch(const EvidentialGridMap& map, const Pose2& previous,
-                                const Pose2& increment, const LaserScan& scan,
-                                const std::vector<MatchPoint>& endpoints, const ScanModels& models,
-                                TracedScan* traced) const {
-  const Pose2 predicted = previous.compose(increment);
+ParticleFilter::NominalMatch ParticleFilter::nominalMatch(
+    const EvidentialGridMap& map, const Pose2& predicted, const LaserScan& scan,
+    const std::vector<MatchPoint>& endpoints, const ScanModels& models, TracedScan* traced) const {
+  NominalMatch m;
   double s = 0.0;
-  const Pose2 nominal = models.matcher.search(map, predicted, endpoints, 0.0, &s);
+  m.pose = models.matcher.search(map, predicted, endpoints, 0.0, &s);
   // No match from the prediction: the map does not explain the scan there (a new area); a start
   // nearer the mapped area would win for that reason alone.
-  if (s <= 0.0) return predicted;
-  auto log_plausibility = [&](const Pose2& pose, size_t* beams) {
-    models.beam.traceScan(pose.compose(scan.sensor_pose), scan, traced);
-    if (beams != nullptr) {
-      *beams = 0;
-      for (const TracedBeam& b : traced->beams) *beams += b.hit ? 1 : 0;
-    }
-    return models.beam.scanLogPlausibility(map, *traced, kWideMatchBeamStride);
-  };
+  if (s <= 0.0) {
+    m.pose = predicted;
+    m.settled = true;
+    return m;
+  }
+  models.beam.traceScan(m.pose.compose(scan.sensor_pose), scan, traced);
   size_t beams = 0;
-  const double nominal_pl = log_plausibility(nominal, &beams);
+  for (const TracedBeam& b : traced->beams) beams += b.hit ? 1 : 0;
+  m.log_plausibility = models.beam.scanLogPlausibility(map, *traced, kWideMatchBeamStride);
   const double used =
       static_cast<double>((beams + kWideMatchBeamStride - 1) / kWideMatchBeamStride);
-  if (used > 0.0 && nominal_pl / used > kExplainedLogPlausibilityPerBeam) return nominal;
+  m.settled = used > 0.0 && m.log_plausibility / used > kExplainedLogPlausibilityPerBeam;
+  return m;
+}
 
-  std::vector<Pose2> candidates;
-  candidates.push_back(
-      models.matcher.search(map, predicted, endpoints, config_.matcher.heading_window, &s));
+std::vector<ParticleFilter::WideCandidate> ParticleFilter::wideCandidates(
+    const EvidentialGridMap& map, const Pose2& previous, const Pose2& increment,
+    const std::vector<MatchPoint>& endpoints, const ScanModels& models) const {
+  const Pose2 predicted = previous.compose(increment);
+  std::vector<WideCandidate> candidates;
+  double s = 0.0;
+  // A turned candidate is one the odometry's heading error makes common (prior 1/e); one without
+  // or with reversed translation, an odometry failure (prior 5 %).
+  const Pose2 turned =
+      models.matcher.search(map, predicted, endpoints, config_.matcher.heading_window, &s);
+  candidates.push_back(WideCandidate{predicted.between(turned), 1.0});
   if (std::hypot(increment.x, increment.y) > kAlternativeStartsFrom) {
     for (const double sign : {0.0, -1.0}) {  // no translation; translation reversed
       const Pose2 start =
           previous.compose(Pose2(sign * increment.x, sign * increment.y, increment.theta));
-      candidates.push_back(models.matcher.search(map, start, endpoints, 0.0, &s));
+      const Pose2 found = models.matcher.search(map, start, endpoints, 0.0, &s);
+      candidates.push_back(WideCandidate{predicted.between(found), kTranslationFailureNats});
     }
   }
+  return candidates;
+}
+
+Pose2 ParticleFilter::chooseCandidate(const EvidentialGridMap& map, const Pose2& predicted,
+                                      const NominalMatch& nominal,
+                                      const std::vector<WideCandidate>& candidates,
+                                      const LaserScan& scan, const ScanModels& models,
+                                      TracedScan* traced) const {
   // Chosen by the forward model, the likelihood the weights use, tempered like the weights (T)
-  // and with a prior: a turned candidate is one the odometry's heading error makes common
-  // (prior 1/e); one without or with reversed translation, an odometry failure (prior 5 %).
-  Pose2 best = nominal;
-  double best_pl = nominal_pl;
-  for (size_t i = 0; i < candidates.size(); ++i) {
-    const Pose2& c = candidates[i];
-    const Pose2 d = nominal.between(c);
+  // and with the candidate's prior.
+  Pose2 best = nominal.pose;
+  double best_pl = nominal.log_plausibility;
+  for (const WideCandidate& c : candidates) {
+    const Pose2 pose = predicted.compose(c.correction);
+    const Pose2 d = nominal.pose.between(pose);
     if (std::hypot(d.x, d.y) < 0.05 && std::abs(d.theta) < 0.02) continue;  // the nominal one
-    const double prior_nats = i == 0 ? 1.0 : kTranslationFailureNats;
-    const double pl = log_plausibility(c, nullptr) - config_.likelihood_temperature * prior_nats;
+    models.beam.traceScan(pose.compose(scan.sensor_pose), scan, traced);
+    const double pl = models.beam.scanLogPlausibility(map, *traced, kWideMatchBeamStride) -
+                      config_.likelihood_temperature * c.prior_nats;
     if (pl > best_pl) {
       best_pl = pl;
-      best = c;
+      best = pose;
     }
   }
   return best;
+}
+
+std::vector<size_t> ParticleFilter::wideMatchClusters(std::vector<size_t>* cluster_of) const {
+  const double max_distance = kClusterRadiusFraction * config_.matcher.search_radius;
+  const double max_angle = kClusterHeadingFraction * config_.matcher.heading_step;
+  const size_t n = particles_.size();
+  cluster_of->assign(n, 0);
+  std::vector<size_t> leaders;  // first member of each cluster: the clusters' centres
+  std::vector<size_t> representatives;
+  for (size_t k = 0; k < n; ++k) {
+    const Particle& p = particles_[k];
+    size_t c = 0;
+    for (; c < leaders.size(); ++c) {
+      const Particle& l = particles_[leaders[c]];
+      if (l.map_id == p.map_id) break;
+      const Pose2 d = l.pose.between(p.pose);
+      if (std::hypot(d.x, d.y) <= max_distance && std::abs(d.theta) <= max_angle) break;
+    }
+    if (c == leaders.size()) {
+      leaders.push_back(k);
+      representatives.push_back(k);
+    } else if (p.cumulative_log_weight >
+               particles_[representatives[c]].cumulative_log_weight) {
+      representatives[c] = k;
+    }
+    (*cluster_of)[k] = c;
+  }
+  return representatives;
 }
 
 FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& scan, int step) {
@@ -200,13 +249,22 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   const double exponent = 1.0 / config_.likelihood_temperature;
   const size_t n = particles_.size();
 
-  // 1. Wide-basin match once per hypothesis (particles with one map id share map and pose): the
-  //    correction from the odometry prediction to where the scan fits best.
+  // 1. Wide-basin match, the correction from the odometry prediction to where the scan fits best.
+  //    Per hypothesis (particles with one map id share map and pose): ICP from the prediction on
+  //    its own map; that settles it when it explains the scan. Otherwise the hypothesis chooses,
+  //    by its own map's plausibility, among candidates found once per pose cluster (particles
+  //    whose poses agree well inside the refinement's capture): the multi-start ICPs, most of the
+  //    cost, run on the map of the cluster's most probable particle, and each candidate is its
+  //    correction of that particle's prediction. Particles rarely share a map id (every update
+  //    gives each group its own) but mostly lie within millimetres of a few others.
   const bool search =
       config_.matcher.enabled && config_.matcher.heading_window > 0.0 && !endpoints.empty();
   std::vector<size_t> hypothesis_of(n, 0);
   std::vector<Pose2> correction;
+  last_wide_matches_ = 0;
   if (search) {
+    std::vector<size_t> cluster_of;
+    const std::vector<size_t> representatives = wideMatchClusters(&cluster_of);
     std::vector<size_t> firsts;
     for (size_t k = 0; k < n; ++k) {
       size_t h = 0;
@@ -214,14 +272,42 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       if (h == firsts.size()) firsts.push_back(k);
       hypothesis_of[k] = h;
     }
-    correction.resize(firsts.size());
+    std::vector<NominalMatch> nominal(firsts.size());
     pool_->run(firsts.size(), [&](size_t h, int worker) {
       const Particle& p = particles_[firsts[h]];
-      Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-      const Pose2 predicted = p.pose.compose(increment);
-      correction[h] = predicted.between(
-          wideMatch(p.map, p.pose, increment, scan, endpoints, models, &ws.traced));
+      nominal[h] = nominalMatch(p.map, p.pose.compose(increment), scan, endpoints, models,
+                                &workspaces_[static_cast<size_t>(worker)]->traced);
     });
+    std::vector<char> needed(representatives.size(), 0);
+    std::vector<size_t> unsettled;
+    for (size_t h = 0; h < firsts.size(); ++h) {
+      if (nominal[h].settled) continue;
+      unsettled.push_back(h);
+      needed[cluster_of[firsts[h]]] = 1;
+    }
+    std::vector<size_t> searched;
+    for (size_t c = 0; c < representatives.size(); ++c) {
+      if (needed[c]) searched.push_back(c);
+    }
+    std::vector<std::vector<WideCandidate>> candidates(representatives.size());
+    pool_->run(searched.size(), [&](size_t i, int) {
+      const Particle& p = particles_[representatives[searched[i]]];
+      candidates[searched[i]] = wideCandidates(p.map, p.pose, increment, endpoints, models);
+    });
+    last_wide_matches_ = searched.size();
+    std::vector<Pose2> chosen(firsts.size());
+    for (size_t h = 0; h < firsts.size(); ++h) chosen[h] = nominal[h].pose;
+    pool_->run(unsettled.size(), [&](size_t i, int worker) {
+      const size_t h = unsettled[i];
+      const Particle& p = particles_[firsts[h]];
+      chosen[h] = chooseCandidate(p.map, p.pose.compose(increment), nominal[h],
+                                  candidates[cluster_of[firsts[h]]], scan, models,
+                                  &workspaces_[static_cast<size_t>(worker)]->traced);
+    });
+    correction.resize(firsts.size());
+    for (size_t h = 0; h < firsts.size(); ++h) {
+      correction[h] = particles_[firsts[h]].pose.compose(increment).between(chosen[h]);
+    }
   }
 
   // 2. Proposal: sample the motion model (around the hypothesis's match when searched), refine

@@ -278,5 +278,47 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
   EXPECT_GT(separate.mapMemoryBytes(), one_map);
 }
 
+// The wide-basin match (preset real) runs its multi-start search once per pose cluster, not once
+// per map: after one update without merging (merge_distance 0) the 8 particles have 8 maps
+// (8 groups) but poses within millimetres, so when the next odometry increment is 0.6 rad (34°)
+// off in heading, which ICP from the prediction does not recover (ScanMatcherTest
+// .SearchRecoversLargeHeadingError), one search over ±0.7 rad serves all 8 and every particle is
+// brought back onto the truth (each then refined on its own map). With the search off (preset
+// sim) ICP alone stays caught: the best particle is more than 0.1 rad off.
+TEST(ParticleFilterTest, WideMatchSearchesOncePerPoseCluster) {
+  const auto run = [](bool wide, size_t* searches) {
+    SlamConfig config = filterConfig(8);
+    config.merge_distance = 0.0;
+    if (wide) {
+      applyRealRobotPreset(&config);
+      config.matcher.heading_window = 0.7;
+    }
+    ParticleFilter filter(config);
+    Pose2 truth(-0.5, -0.3, 0.1);
+    const auto scan = [](const Pose2& p) { return testing_room::roomScan(p, 0.0, true); };
+    filter.initialize(truth, scan(truth), 0);
+    const Pose2 step(0.3, 0.0, 0.0);
+    truth = truth.compose(step);
+    filter.update(step, scan(truth), 1);
+    EXPECT_EQ(filter.lastUpdateGroups(), 8u);
+    const Pose2 turn(0.3, 0.0, 0.6);  // the robot really went straight
+    truth = truth.compose(step);
+    filter.update(turn, scan(truth), 2);
+    *searches = filter.lastWideMatches();
+    for (const Particle& p : filter.particles()) {
+      if (!wide) break;
+      EXPECT_NEAR(p.pose.x, truth.x, 0.05);
+      EXPECT_NEAR(p.pose.y, truth.y, 0.05);
+      EXPECT_NEAR(normalizeAngle(p.pose.theta - truth.theta), 0.0, 0.02);
+    }
+    return std::abs(normalizeAngle(filter.best().pose.theta - truth.theta));
+  };
+  size_t searches = 0;
+  EXPECT_LT(run(true, &searches), 0.02);
+  EXPECT_EQ(searches, 1u);
+  EXPECT_GT(run(false, &searches), 0.1);
+  EXPECT_EQ(searches, 0u);
+}
+
 }  // namespace
 }  // namespace evidential_slam

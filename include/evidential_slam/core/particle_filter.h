@@ -68,6 +68,9 @@ class ParticleFilter {
   size_t mapMemoryBytes() const;
   // Distinct hypotheses (map, pose) whose scan was integrated at the last update.
   size_t lastUpdateGroups() const { return last_groups_; }
+  // Multi-start searches of the wide-basin match at the last update (at most one per pose cluster;
+  // 0 when the search is off or every hypothesis was explained from its prediction).
+  size_t lastWideMatches() const { return last_wide_matches_; }
 
   // Systematic (low-variance) resampling of normalised weights; returns the chosen parent of
   // each new particle. Exposed for tests.
@@ -77,12 +80,38 @@ class ParticleFilter {
   struct Workspace;
   struct ScanModels;
   void resampleIfNeeded(FilterStepInfo* info);
-  // Wide-basin match of one hypothesis (matcher.heading_window > 0): ICP from the odometry
-  // prediction; unless that already explains the scan, also from turned starts and from no or
-  // reversed translation, the candidate chosen by the forward model's plausibility.
-  Pose2 wideMatch(const EvidentialGridMap& map, const Pose2& previous, const Pose2& increment,
-                  const LaserScan& scan, const std::vector<MatchPoint>& endpoints,
-                  const ScanModels& models, TracedScan* traced) const;
+  // Clusters for the wide-basin match: a particle joins the first cluster whose first member has
+  // its map id or a pose within kClusterRadiusFraction · search_radius and kClusterHeadingFraction
+  // · heading_step of its own. Returns each cluster's representative (its member with the highest
+  // cumulative weight, the first on ties); `cluster_of` gets each particle's cluster.
+  std::vector<size_t> wideMatchClusters(std::vector<size_t>* cluster_of) const;
+  // Wide-basin match (matcher.heading_window > 0), in three parts. nominalMatch: ICP from the
+  // odometry prediction on a hypothesis's map and the forward model's log plausibility there;
+  // `settled` when that already explains the scan (or nothing matched: the prediction).
+  struct NominalMatch {
+    Pose2 pose;
+    double log_plausibility = 0.0;
+    bool settled = false;
+  };
+  NominalMatch nominalMatch(const EvidentialGridMap& map, const Pose2& predicted,
+                            const LaserScan& scan, const std::vector<MatchPoint>& endpoints,
+                            const ScanModels& models, TracedScan* traced) const;
+  // wideCandidates: ICP from the prediction turned by up to ±heading_window and from no and from
+  // reversed translation, as corrections of the prediction with their prior (nats).
+  struct WideCandidate {
+    Pose2 correction;
+    double prior_nats = 0.0;
+  };
+  std::vector<WideCandidate> wideCandidates(const EvidentialGridMap& map, const Pose2& previous,
+                                            const Pose2& increment,
+                                            const std::vector<MatchPoint>& endpoints,
+                                            const ScanModels& models) const;
+  // chooseCandidate: the nominal pose or a candidate applied to `predicted`, by log plausibility
+  // on `map` tempered by T, minus T · prior.
+  Pose2 chooseCandidate(const EvidentialGridMap& map, const Pose2& predicted,
+                        const NominalMatch& nominal, const std::vector<WideCandidate>& candidates,
+                        const LaserScan& scan, const ScanModels& models,
+                        TracedScan* traced) const;
 
   SlamConfig config_;
   std::vector<Particle> particles_;
@@ -94,6 +123,7 @@ class ParticleFilter {
   uint64_t resample_counter_ = 0;
   uint64_t next_map_id_ = 1;
   size_t last_groups_ = 0;  // distinct (map, pose) hypotheses integrated at the last update
+  size_t last_wide_matches_ = 0;
 };
 
 }  // namespace evidential_slam
