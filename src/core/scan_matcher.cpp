@@ -10,6 +10,9 @@ constexpr double kKernelStepsPerCell2 = 64.0;
 constexpr double kRobustScale = 0.1;
 constexpr double kConvergedTranslation = 1e-4;  // m
 constexpr double kConvergedRotation = 1e-4;     // rad
+// The 3x3 cells score() looks at, the centre (the endpoint's own cell) first.
+constexpr CellIndex kScoreNeighbours[9] = {{0, 0},  {-1, 0}, {1, 0},  {0, -1}, {0, 1},
+                                           {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
 }  // namespace
 
 ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor,
@@ -66,18 +69,20 @@ double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
         static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) * inv_res));
     const int jy =
         static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) * inv_res));
+    // The best of the 3x3 cells, the one holding the endpoint first. A cell's term is
+    // (m̃(o)·m̃(e))·kernel with both masses ≤ 1, so a cell whose kernel, or m̃(o)·kernel, is not
+    // above the best so far cannot win and its remaining lookups are skipped (the result is the
+    // same maximum, bit for bit: float rounding is monotone).
     float best = 0.0f;
-    for (int dy = -1; dy <= 1; ++dy) {
-      const double ddy = iy + dy + 0.5 - fy;
-      for (int dx = -1; dx <= 1; ++dx) {
-        float occ = map.cell(ix + dx, iy + dy).occupied;
-        if (occ <= best) continue;
-        occ *= map.cell(jx + dx, jy + dy).free;
-        if (occ <= best) continue;
-        const double ddx = ix + dx + 0.5 - fx;
-        const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
-        best = std::max(best, occ * kernel_[std::min(k, kernel_.size() - 1)]);
-      }
+    for (const CellIndex& o : kScoreNeighbours) {
+      const double ddx = ix + o.x + 0.5 - fx, ddy = iy + o.y + 0.5 - fy;
+      const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
+      const float kernel = kernel_[std::min(k, kernel_.size() - 1)];
+      if (kernel <= best) continue;
+      float occ = map.cell(ix + o.x, iy + o.y).occupied;
+      if (occ <= best || occ * kernel <= best) continue;
+      occ *= map.cell(jx + o.x, jy + o.y).free;
+      best = std::max(best, occ * kernel);
     }
     total += best;
   }
