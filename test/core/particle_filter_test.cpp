@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "evidential_slam/core/particle_filter.h"
+#include "evidential_slam/core/sensor_model.h"
 #include "test_support.h"
 
 namespace evidential_slam {
@@ -318,6 +319,40 @@ TEST(ParticleFilterTest, WideMatchSearchesOncePerPoseCluster) {
   EXPECT_EQ(searches, 1u);
   EXPECT_GT(run(false, &searches), 0.1);
   EXPECT_EQ(searches, 0u);
+}
+
+// hitBeamSubset keeps exactly the beams traceScan makes hits, every stride-th of them: on a room
+// scan with invalid (no-return), NaN, too short (< min_range) and too long (>= usable_range)
+// readings mixed in, the subset's log plausibility (stride 1) equals the whole scan's at stride 2,
+// bit for bit, and it holds half of the hit beams (rounded up).
+TEST(ParticleFilterTest, HitBeamSubsetMatchesStridedPlausibility) {
+  const SensorModelConfig sensor;
+  const BeamModel model(sensor, 0.05);
+  const Pose2 pose(-0.4, 0.3, 0.2);
+  LaserScan scan = testing_room::roomScan(pose, 0.0, true);
+  EvidentialGridMap map(0.05);
+  TracedScan traced;
+  ScanAccumulator scratch;
+  model.traceScan(pose, scan, &traced);
+  model.integrateScan(traced, &map, &scratch);
+  int hits = 0;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    switch (i % 7) {
+      case 1: scan.valid[i] = 0; break;
+      case 3: scan.ranges[i] = std::nanf(""); break;
+      case 4: scan.ranges[i] = 0.01f; break;
+      case 5: scan.ranges[i] = 25.0f; break;
+      default: ++hits;
+    }
+  }
+  const Pose2 moved = pose.compose(Pose2(0.03, -0.02, 0.01));
+  model.traceScan(moved, scan, &traced);
+  const double whole = model.scanLogPlausibility(map, traced, 2);
+  const LaserScan subset = ParticleFilter::hitBeamSubset(scan, sensor, 2);
+  EXPECT_EQ(subset.ranges.size(), static_cast<size_t>((hits + 1) / 2));
+  model.traceScan(moved, subset, &traced);
+  EXPECT_EQ(model.scanLogPlausibility(map, traced, 1), whole);
+  EXPECT_LT(whole, 0.0);
 }
 
 }  // namespace

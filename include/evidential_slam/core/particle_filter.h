@@ -75,6 +75,10 @@ class ParticleFilter {
   // Systematic (low-variance) resampling of normalised weights; returns the chosen parent of
   // each new particle. Exposed for tests.
   static std::vector<size_t> systematicResample(const std::vector<double>& weights, double u0);
+  // The beams of `scan` that BeamModel::traceScan makes hits, every `stride`-th of them, as a scan
+  // of their own: its traced log plausibility (stride 1) equals the whole scan's at `stride`
+  // without tracing the other beams. Exposed for tests.
+  static LaserScan hitBeamSubset(const LaserScan& scan, const SensorModelConfig& sensor, int stride);
 
  private:
   struct Workspace;
@@ -86,16 +90,20 @@ class ParticleFilter {
   // cumulative weight, the first on ties); `cluster_of` gets each particle's cluster.
   std::vector<size_t> wideMatchClusters(std::vector<size_t>* cluster_of) const;
   // Wide-basin match (matcher.heading_window > 0), in three parts. nominalMatch: ICP from the
-  // odometry prediction on a hypothesis's map and the forward model's log plausibility there;
-  // `settled` when that already explains the scan (or nothing matched: the prediction).
+  // odometry prediction on a hypothesis's map, the forward model's log plausibility there (the
+  // beams of `hits`), and whether that settles it (it explains the scan, or nothing matched from
+  // the prediction, which then stands).
   struct NominalMatch {
     Pose2 pose;
     double log_plausibility = 0.0;
     bool settled = false;
   };
   NominalMatch nominalMatch(const EvidentialGridMap& map, const Pose2& predicted,
-                            const LaserScan& scan, const std::vector<MatchPoint>& endpoints,
+                            const std::vector<MatchPoint>& endpoints, const LaserScan& hits,
                             const ScanModels& models, TracedScan* traced) const;
+  // Σ log pl of the beams of `hits` (hitBeamSubset) from `pose` on `map`.
+  double wideLogPlausibility(const EvidentialGridMap& map, const Pose2& pose, const LaserScan& hits,
+                             const ScanModels& models, TracedScan* traced) const;
   // wideCandidates: ICP from the prediction turned by up to ±heading_window and from no and from
   // reversed translation, as corrections of the prediction with their prior (nats).
   struct WideCandidate {
@@ -110,7 +118,7 @@ class ParticleFilter {
   // on `map` tempered by T, minus T · prior.
   Pose2 chooseCandidate(const EvidentialGridMap& map, const Pose2& predicted,
                         const NominalMatch& nominal, const std::vector<WideCandidate>& candidates,
-                        const LaserScan& scan, const ScanModels& models,
+                        const LaserScan& hits, const ScanModels& models,
                         TracedScan* traced) const;
 
   SlamConfig config_;
