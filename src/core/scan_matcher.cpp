@@ -148,6 +148,7 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
   double current_score = score(map, current, pts);
   double lin = config_.linear_step, ang = config_.angular_step;
   for (int level = 0; level <= config_.refinements; ++level) {
+    int undo = -1;  // the move that would undo the last one taken: back where the score was lower
     for (int it = 0; it < config_.max_iterations; ++it) {
       const Pose2 moves[6] = {
           {current.x + lin, current.y, current.theta}, {current.x - lin, current.y, current.theta},
@@ -155,16 +156,20 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
           {current.x, current.y, current.theta + ang}, {current.x, current.y, current.theta - ang}};
       Pose2 best = current;
       double best_score = current_score;
-      for (const Pose2& candidate : moves) {
-        const double sc = score(map, candidate, pts);
+      int taken = -1;
+      for (int m = 0; m < 6; ++m) {
+        if (m == undo) continue;
+        const double sc = score(map, moves[m], pts);
         if (sc > best_score) {
           best_score = sc;
-          best = candidate;
+          best = moves[m];
+          taken = m;
         }
       }
       if (best_score <= current_score) break;
       current = best;
       current_score = best_score;
+      undo = taken ^ 1;  // moves come in pairs: +/- x, +/- y, +/- theta
     }
     lin *= 0.5;
     ang *= 0.5;
