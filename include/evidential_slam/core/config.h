@@ -59,8 +59,8 @@ struct ScanMatcherConfig {
   // Wide-basin match (applyRealRobotPreset): before the particles are sampled, each hypothesis
   // (map and pose) is matched once by ICP from its odometry prediction; unless that explains the
   // scan, also from the prediction turned by ±heading_step, ... ±heading_window and from no and
-  // from reversed translation (these ICPs once per cluster of nearby poses), the forward model
-  // choosing. The particles are then sampled around the chosen pose. ICP alone recovers a few degrees and ~0.3 m; real wheel odometry is off by up
+  // from reversed translation, the forward model choosing. The particles are then sampled around
+  // the chosen pose. ICP alone recovers a few degrees and ~0.3 m; real wheel odometry is off by up
   // to 20° between processed scans (a slipping turn) and may report speed without its sign
   // (Freiburg 079's never goes backwards, the robot does 168 times). 0 disables it.
   double heading_window = 0.0;   // rad, half-width; applyRealRobotPreset: 0.35 (20°)

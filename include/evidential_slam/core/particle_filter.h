@@ -68,8 +68,8 @@ class ParticleFilter {
   size_t mapMemoryBytes() const;
   // Distinct hypotheses (map, pose) whose scan was integrated at the last update.
   size_t lastUpdateGroups() const { return last_groups_; }
-  // Multi-start searches of the wide-basin match at the last update (at most one per pose cluster;
-  // 0 when the search is off or every hypothesis was explained from its prediction).
+  // Hypotheses whose wide-basin match ran its multi-start search at the last update (0 when the
+  // search is off or every hypothesis was explained from its prediction).
   size_t lastWideMatches() const { return last_wide_matches_; }
 
   // Systematic (low-variance) resampling of normalised weights; returns the chosen parent of
@@ -84,11 +84,6 @@ class ParticleFilter {
   struct Workspace;
   struct ScanModels;
   void resampleIfNeeded(FilterStepInfo* info);
-  // Clusters for the wide-basin match: a particle joins the first cluster whose first member has
-  // its map id or a pose within kClusterRadiusFraction · search_radius and kClusterHeadingFraction
-  // · heading_step of its own. Returns each cluster's representative (its member with the highest
-  // cumulative weight, the first on ties); `cluster_of` gets each particle's cluster.
-  std::vector<size_t> wideMatchClusters(std::vector<size_t>* cluster_of) const;
   // Wide-basin match (matcher.heading_window > 0), in three parts. nominalMatch: ICP from the
   // odometry prediction on a hypothesis's map, the forward model's log plausibility there (the
   // beams of `hits`), and whether that settles it (it explains the scan, or nothing matched from
@@ -104,22 +99,21 @@ class ParticleFilter {
   // Σ log pl of the beams of `hits` (hitBeamSubset) from `pose` on `map`.
   double wideLogPlausibility(const EvidentialGridMap& map, const Pose2& pose, const LaserScan& hits,
                              const ScanModels& models, TracedScan* traced) const;
-  // wideCandidates: ICP from the prediction turned by up to ±heading_window and from no and from
-  // reversed translation, as corrections of the prediction with their prior (nats).
+  // wideCandidates: ICP from the prediction turned by up to ±heading_window (the best score
+  // of those starts) and from no and from reversed translation, with their prior (nats).
   struct WideCandidate {
-    Pose2 correction;
+    Pose2 pose;
     double prior_nats = 0.0;
   };
   std::vector<WideCandidate> wideCandidates(const EvidentialGridMap& map, const Pose2& previous,
                                             const Pose2& increment,
                                             const std::vector<MatchPoint>& endpoints,
                                             const ScanModels& models) const;
-  // chooseCandidate: the nominal pose or a candidate applied to `predicted`, by log plausibility
-  // on `map` tempered by T, minus T · prior.
-  Pose2 chooseCandidate(const EvidentialGridMap& map, const Pose2& predicted,
-                        const NominalMatch& nominal, const std::vector<WideCandidate>& candidates,
-                        const LaserScan& hits, const ScanModels& models,
-                        TracedScan* traced) const;
+  // chooseCandidate: the nominal pose or a candidate, by log plausibility on `map` (the beams of
+  // `hits`) minus T · prior.
+  Pose2 chooseCandidate(const EvidentialGridMap& map, const NominalMatch& nominal,
+                        const std::vector<WideCandidate>& candidates, const LaserScan& hits,
+                        const ScanModels& models, TracedScan* traced) const;
 
   SlamConfig config_;
   std::vector<Particle> particles_;
