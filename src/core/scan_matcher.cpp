@@ -36,6 +36,9 @@ class Neighbourhood {
 };
 const Cell Neighbourhood::kVacuous{};
 
+// The 3x3 cells score() looks at, the centre (the endpoint's own cell) first.
+constexpr CellIndex kScoreNeighbours[9] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
+                                           {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
 }  // namespace
 
 ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor,
@@ -92,21 +95,22 @@ double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
         static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) * inv_res));
     const int jy =
         static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) * inv_res));
-    // The 3 x 3 blocks around both cells, read through their tiles when each lies in one tile
-    // (most do): one tile lookup instead of nine.
+    // The best of the 3x3 cells, the one holding the endpoint first. A cell's term is
+    // (m̃(o)·m̃(e))·kernel with both masses ≤ 1, so a cell whose kernel, or m̃(o)·kernel, is not
+    // above the best so far cannot win and its remaining lookups are skipped (the result is the
+    // same maximum, bit for bit: float rounding is monotone).
+    // Both 3x3 blocks are read through their tiles when each lies in one tile (most do).
     const Neighbourhood hit_cells(map, ix, iy), free_cells(map, jx, jy);
     float best = 0.0f;
-    for (int dy = -1; dy <= 1; ++dy) {
-      const double ddy = iy + dy + 0.5 - fy;
-      for (int dx = -1; dx <= 1; ++dx) {
-        float occ = hit_cells.at(dx, dy).occupied();
-        if (occ <= best) continue;
-        occ *= free_cells.at(dx, dy).free();
-        if (occ <= best) continue;
-        const double ddx = ix + dx + 0.5 - fx;
-        const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
-        best = std::max(best, occ * kernel_[std::min(k, kernel_.size() - 1)]);
-      }
+    for (const CellIndex& o : kScoreNeighbours) {
+      const double ddx = ix + o.x + 0.5 - fx, ddy = iy + o.y + 0.5 - fy;
+      const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
+      const float kernel = kernel_[std::min(k, kernel_.size() - 1)];
+      if (kernel <= best) continue;
+      float occ = hit_cells.at(o.x, o.y).occupied();
+      if (occ <= best || occ * kernel <= best) continue;
+      occ *= free_cells.at(o.x, o.y).free();
+      best = std::max(best, occ * kernel);
     }
     total += best;
   }
@@ -171,33 +175,30 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
   Pose2 current = start;
   double current_score = score(map, current, pts);
   double lin = config_.linear_step, ang = config_.angular_step;
-  int came_from = -1;  // index of the move that returns to the previous pose
   for (int level = 0; level <= config_.refinements; ++level) {
+    int undo = -1;  // the move that would undo the last one taken: back where the score was lower
     for (int it = 0; it < config_.max_iterations; ++it) {
-      int best_move = -1;
       const Pose2 moves[6] = {
           {current.x + lin, current.y, current.theta}, {current.x - lin, current.y, current.theta},
           {current.x, current.y + lin, current.theta}, {current.x, current.y - lin, current.theta},
           {current.x, current.y, current.theta + ang}, {current.x, current.y, current.theta - ang}};
       Pose2 best = current;
       double best_score = current_score;
+      int taken = -1;
       for (int m = 0; m < 6; ++m) {
-        // The move back to where the last move came from scores below the current pose: skip it.
-        if (m == came_from) continue;
-        const Pose2& candidate = moves[m];
-        const double sc = score(map, candidate, pts);
+        if (m == undo) continue;
+        const double sc = score(map, moves[m], pts);
         if (sc > best_score) {
           best_score = sc;
-          best = candidate;
-          best_move = m;
+          best = moves[m];
+          taken = m;
         }
       }
       if (best_score <= current_score) break;
       current = best;
       current_score = best_score;
-      came_from = best_move ^ 1;  // moves come in opposite pairs: 0/1, 2/3, 4/5
+      undo = taken ^ 1;  // moves come in pairs: +/- x, +/- y, +/- theta
     }
-    came_from = -1;  // the step changes: the way back is a new pose
     lin *= 0.5;
     ang *= 0.5;
   }

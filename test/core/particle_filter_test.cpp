@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "evidential_slam/core/particle_filter.h"
+#include "evidential_slam/core/sensor_model.h"
 #include "test_support.h"
 
 namespace evidential_slam {
@@ -276,6 +277,81 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
   separate.update(step, roomScan(start.compose(step)), 1);
   EXPECT_EQ(separate.lastUpdateGroups(), 8u);
   EXPECT_GT(separate.mapMemoryBytes(), one_map);
+}
+
+// The wide-basin match (preset real) recovers a heading error ICP alone does not: after one update
+// without merging (merge_distance 0) the 8 particles have 8 maps (8 hypotheses), and when the next
+// odometry increment is 0.6 rad (34°) off in heading, which ICP from the prediction does not
+// recover (ScanMatcherTest.SearchRecoversLargeHeadingError), each hypothesis runs the multi-start
+// search over ±0.7 rad and every particle is brought back onto the truth. With the search off
+// (preset sim) ICP alone stays caught: the best particle is more than 0.1 rad off.
+TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
+  const auto run = [](bool wide, size_t* searches) {
+    SlamConfig config = filterConfig(8);
+    config.merge_distance = 0.0;
+    if (wide) {
+      applyRealRobotPreset(&config);
+      config.matcher.heading_window = 0.7;
+    }
+    ParticleFilter filter(config);
+    Pose2 truth(-0.5, -0.3, 0.1);
+    const auto scan = [](const Pose2& p) { return testing_room::roomScan(p, 0.0, true); };
+    filter.initialize(truth, scan(truth), 0);
+    const Pose2 step(0.3, 0.0, 0.0);
+    truth = truth.compose(step);
+    filter.update(step, scan(truth), 1);
+    EXPECT_EQ(filter.lastUpdateGroups(), 8u);
+    const Pose2 turn(0.3, 0.0, 0.6);  // the robot really went straight
+    truth = truth.compose(step);
+    filter.update(turn, scan(truth), 2);
+    *searches = filter.lastWideMatches();
+    for (const Particle& p : filter.particles()) {
+      if (!wide) break;
+      EXPECT_NEAR(p.pose.x, truth.x, 0.05);
+      EXPECT_NEAR(p.pose.y, truth.y, 0.05);
+      EXPECT_NEAR(normalizeAngle(p.pose.theta - truth.theta), 0.0, 0.02);
+    }
+    return std::abs(normalizeAngle(filter.best().pose.theta - truth.theta));
+  };
+  size_t searches = 0;
+  EXPECT_LT(run(true, &searches), 0.02);
+  EXPECT_EQ(searches, 8u);
+  EXPECT_GT(run(false, &searches), 0.1);
+  EXPECT_EQ(searches, 0u);
+}
+
+// hitBeamSubset keeps exactly the beams traceScan makes hits, every stride-th of them: on a room
+// scan with invalid (no-return), NaN, too short (< min_range) and too long (>= usable_range)
+// readings mixed in, the subset's log plausibility (stride 1) equals the whole scan's at stride 2,
+// bit for bit, and it holds half of the hit beams (rounded up).
+TEST(ParticleFilterTest, HitBeamSubsetMatchesStridedPlausibility) {
+  const SensorModelConfig sensor;
+  const BeamModel model(sensor, 0.05);
+  const Pose2 pose(-0.4, 0.3, 0.2);
+  LaserScan scan = testing_room::roomScan(pose, 0.0, true);
+  EvidentialGridMap map(0.05);
+  TracedScan traced;
+  ScanAccumulator scratch;
+  model.traceScan(pose, scan, &traced);
+  model.integrateScan(traced, &map, &scratch);
+  int hits = 0;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    switch (i % 7) {
+      case 1: scan.valid[i] = 0; break;
+      case 3: scan.ranges[i] = std::nanf(""); break;
+      case 4: scan.ranges[i] = 0.01f; break;
+      case 5: scan.ranges[i] = 25.0f; break;
+      default: ++hits;
+    }
+  }
+  const Pose2 moved = pose.compose(Pose2(0.03, -0.02, 0.01));
+  model.traceScan(moved, scan, &traced);
+  const double whole = model.scanLogPlausibility(map, traced, 2);
+  const LaserScan subset = ParticleFilter::hitBeamSubset(scan, sensor, 2);
+  EXPECT_EQ(subset.ranges.size(), static_cast<size_t>((hits + 1) / 2));
+  model.traceScan(moved, subset, &traced);
+  EXPECT_EQ(model.scanLogPlausibility(map, traced, 1), whole);
+  EXPECT_LT(whole, 0.0);
 }
 
 }  // namespace

@@ -91,5 +91,54 @@ TEST_F(ScanMatcherTest, EmptyMapKeepsPose) {
   EXPECT_DOUBLE_EQ(refined.theta, start.theta);
 }
 
+// score() against its definition, computed plainly: Σ over endpoints of the largest
+// m̃(o)(hit cell + o)·m̃(e)(free cell + o)·kernel(d) over the 3x3 offsets o, d the endpoint's
+// distance to the cell's centre (kernel exp(-d²/2σ²), σ = score_sigma, tabulated as score() does).
+// score() skips cells that cannot beat the best so far; the sum must be the same, bit for bit, at
+// poses all around the truth (sub-cell shifts, so endpoints fall at every position in their cells).
+TEST_F(ScanMatcherTest, ScoreEqualsItsDefinition) {
+  const ScanMatcherConfig config;
+  const double res = 0.05, sigma_cells = config.score_sigma / res;
+  const auto reference = [&](const Pose2& pose) {
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    double total = 0.0;
+    for (const MatchPoint& p : endpoints_) {
+      const double fx = (pose.x + c * p.hit.x() - s * p.hit.y()) / res;
+      const double fy = (pose.y + s * p.hit.x() + c * p.hit.y()) / res;
+      const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
+      const int jx = static_cast<int>(std::floor((pose.x + c * p.free.x() - s * p.free.y()) / res));
+      const int jy = static_cast<int>(std::floor((pose.y + s * p.free.x() + c * p.free.y()) / res));
+      float best = 0.0f;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const double ddx = ix + dx + 0.5 - fx, ddy = iy + dy + 0.5 - fy;
+          const double d2 = ddx * ddx + ddy * ddy;
+          // The table's entry: exp at the tabulated squared distance (64 steps per cell²).
+          const double d2_table = std::floor(d2 * 64.0) / 64.0;
+          const float kernel =
+              static_cast<float>(std::exp(-0.5 * d2_table / (sigma_cells * sigma_cells)));
+          const float term =
+              (map_.cell(ix + dx, iy + dy).occupied() * map_.cell(jx + dx, jy + dy).free()) *
+              kernel;
+          best = std::max(best, term);
+        }
+      }
+      total += best;
+    }
+    return total;
+  };
+  int compared = 0;
+  for (int i = -6; i <= 6; ++i) {
+    for (int j = -6; j <= 6; ++j) {
+      const Pose2 pose(truth_.x + 0.0073 * i, truth_.y + 0.0061 * j,
+                       truth_.theta + 0.004 * (i - j));
+      EXPECT_EQ(matcher_.score(map_, pose, endpoints_), reference(pose)) << i << " " << j;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 169);
+  EXPECT_GT(reference(truth_), 0.0);
+}
+
 }  // namespace
 }  // namespace evidential_slam

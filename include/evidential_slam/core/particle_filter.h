@@ -69,21 +69,52 @@ class ParticleFilter {
   size_t mapMemoryBytes() const;
   // Distinct hypotheses (map, pose) whose scan was integrated at the last update.
   size_t lastUpdateGroups() const { return last_groups_; }
+  // Hypotheses whose wide-basin match ran its multi-start search at the last update (0 when the
+  // search is off or every hypothesis was explained from its prediction).
+  size_t lastWideMatches() const { return last_wide_matches_; }
 
   // Systematic (low-variance) resampling of normalised weights; returns the chosen parent of
   // each new particle. Exposed for tests.
   static std::vector<size_t> systematicResample(const std::vector<double>& weights, double u0);
+  // The beams of `scan` that BeamModel::traceScan makes hits, every `stride`-th of them, as a scan
+  // of their own: its traced log plausibility (stride 1) equals the whole scan's at `stride`
+  // without tracing the other beams. Exposed for tests.
+  static LaserScan hitBeamSubset(const LaserScan& scan, const SensorModelConfig& sensor, int stride);
 
  private:
   struct Workspace;
   struct ScanModels;
   void resampleIfNeeded(FilterStepInfo* info);
-  // Wide-basin match of one hypothesis (matcher.heading_window > 0): ICP from the odometry
-  // prediction; unless that already explains the scan, also from turned starts and from no or
-  // reversed translation, the candidate chosen by the forward model's plausibility.
-  Pose2 wideMatch(const EvidentialGridMap& map, const Pose2& previous, const Pose2& increment,
-                  const LaserScan& scan, const std::vector<MatchPoint>& endpoints,
-                  const ScanModels& models, TracedScan* traced) const;
+  // Wide-basin match (matcher.heading_window > 0), in three parts. nominalMatch: ICP from the
+  // odometry prediction on a hypothesis's map, the forward model's log plausibility there (the
+  // beams of `hits`), and whether that settles it (it explains the scan, or nothing matched from
+  // the prediction, which then stands).
+  struct NominalMatch {
+    Pose2 pose;
+    double log_plausibility = 0.0;
+    bool settled = false;
+  };
+  NominalMatch nominalMatch(const EvidentialGridMap& map, const Pose2& predicted,
+                            const std::vector<MatchPoint>& endpoints, const LaserScan& hits,
+                            const ScanModels& models, TracedScan* traced) const;
+  // Σ log pl of the beams of `hits` (hitBeamSubset) from `pose` on `map`.
+  double wideLogPlausibility(const EvidentialGridMap& map, const Pose2& pose, const LaserScan& hits,
+                             const ScanModels& models, TracedScan* traced) const;
+  // wideCandidates: ICP from the prediction turned by up to ±heading_window (the best score
+  // of those starts) and from no and from reversed translation, with their prior (nats).
+  struct WideCandidate {
+    Pose2 pose;
+    double prior_nats = 0.0;
+  };
+  std::vector<WideCandidate> wideCandidates(const EvidentialGridMap& map, const Pose2& previous,
+                                            const Pose2& increment,
+                                            const std::vector<MatchPoint>& endpoints,
+                                            const ScanModels& models) const;
+  // chooseCandidate: the nominal pose or a candidate, by log plausibility on `map` (the beams of
+  // `hits`) minus T · prior.
+  Pose2 chooseCandidate(const EvidentialGridMap& map, const NominalMatch& nominal,
+                        const std::vector<WideCandidate>& candidates, const LaserScan& hits,
+                        const ScanModels& models, TracedScan* traced) const;
 
   SlamConfig config_;
   std::vector<Particle> particles_;
@@ -95,6 +126,7 @@ class ParticleFilter {
   uint64_t resample_counter_ = 0;
   uint64_t next_map_id_ = 1;
   size_t last_groups_ = 0;  // distinct (map, pose) hypotheses integrated at the last update
+  size_t last_wide_matches_ = 0;
 };
 
 }  // namespace evidential_slam
