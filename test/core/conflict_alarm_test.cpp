@@ -14,7 +14,7 @@ namespace evidential_slam {
 namespace {
 
 constexpr double kRes = 0.05;
-// Cells store m̃ in steps of 1/(2^24 - 1) and λ as a half float: sums over them computed from the
+// Cells store m̃ in steps of 2^-23 and λ as a half float: sums over them computed from the
 // nominal values agree to ~1e-4.
 constexpr double kStored = 1e-4;
 
@@ -45,10 +45,10 @@ TEST(OpenSpaceConflict, HitsOnOpenFloorCountWhatTheyAdd) {
   map.mutableCell(3, 0) = makeCell(0.05f, 0.9f, static_cast<float>(std::log(2.0)));
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 8);
-  acc.add(0, 0, scanMass(0.8f, 0.0f));   // K = 0.99 * 0.8 = 0.792
-  acc.add(3, 0, scanMass(0.7f, 0.1f));   // K = 0.05 * 0.1 + 0.9 * 0.7 = 0.635, e^{-λ} = 1/2
-  acc.add(-3, 0, scanMass(0.5f, 0.0f));  // m̃(e)s(o) = 0.495 < 1/2: not counted
-  acc.add(0, 3, scanMass(0.0f, 0.8f));   // clear: agrees, nothing
+  acc.add(0, 0, scanMass(0.8f, 0.0f));    // K = 0.99 * 0.8 = 0.792
+  acc.add(3, 0, scanMass(0.7f, 0.1f));    // K = 0.05 * 0.1 + 0.9 * 0.7 = 0.635, e^{-λ} = 1/2
+  acc.add(-3, 0, scanMass(0.5f, 0.0f));   // m̃(e)s(o) = 0.495 < 1/2: not counted
+  acc.add(0, 3, scanMass(0.0f, 0.8f));    // clear: agrees, nothing
   acc.add(0, -3, scanMass(0.19f, 0.0f));  // the hit's side mass: below 1/2
   const double expected = 0.792 + 0.5 * 0.635;
   EXPECT_NEAR(acc.openSpaceConflict(map, 2), expected, kStored);
@@ -102,8 +102,8 @@ TEST(OpenSpaceConflict, RadiusIsTheForwardHitWindow) {
   SensorModelConfig c;
   c.forward_sigma = 0.025;
   c.forward_window = 3.0;
-  EXPECT_EQ(BeamModel(c, 0.05).openSpaceRadius(), 2);  // 0.075 m / 0.05 m = 1.5
-  EXPECT_EQ(BeamModel(c, 0.1).openSpaceRadius(), 1);   // 0.75
+  EXPECT_EQ(BeamModel(c, 0.05).openSpaceRadius(), 2);   // 0.075 m / 0.05 m = 1.5
+  EXPECT_EQ(BeamModel(c, 0.1).openSpaceRadius(), 1);    // 0.75
   EXPECT_EQ(BeamModel(c, 0.025).openSpaceRadius(), 3);  // exactly 3
   c.forward_sigma = 0.05;
   EXPECT_EQ(BeamModel(c, 0.05).openSpaceRadius(), 3);
@@ -214,7 +214,7 @@ TEST(ConflictAlarm, ZeroBaselineLeavesItToTheFloor) {
   EXPECT_EQ(defaults.warmup_scans, 10);
   ConflictAlarm alarm(defaults);
   for (int i = 0; i < 9; ++i) EXPECT_FALSE(alarm.update(0.0).alarm);
-  EXPECT_FALSE(alarm.update(30.0).alarm);  // 10th scan: 9 in the baseline, still warming up
+  EXPECT_FALSE(alarm.update(30.0).alarm);   // 10th scan: 9 in the baseline, still warming up
   EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);  // median of {0 x 9, 30}
   EXPECT_FALSE(alarm.update(4.9).alarm);
   const ConflictAlarmState s = alarm.update(22.0);

@@ -13,7 +13,7 @@
 namespace evidential_slam {
 namespace {
 
-// The cells store m̃ in steps of 1/(2^24 - 1) and λ as a half float (2^-11 relative): values agree with
+// The cells store m̃ in steps of 2^-23 and λ as a half float (2^-11 relative): values agree with
 // the nominal masses to ~3e-4 (EC of λ = ln 2 is off by up to 2.4e-4 / ln 2).
 constexpr double kTol = 5e-4;
 

@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kExact = 1e-12;  // double arithmetic on Mass
 constexpr double kFloat = 1e-6;   // values stored as float in ScanMass
-// Cell storage: m̃(o), m̃(e) in steps of 1/(2^24 - 1) (float-like near certainty) ...
+// Cell storage: m̃(o), m̃(e) in steps of 2^-23 (float-like near certainty) ...
 constexpr double kStored = 5e-5;
 // ... and λ as a half float (11 significant bits).
 double lambdaTolerance(double lambda) { return 1e-3 * lambda + 1e-7; }
@@ -323,8 +323,7 @@ TEST(CellTest, AlternatingUpdatesNeverSaturate) {
 
 // toMass() of a cell whose stored pair sums to 1 (unknown() == 0) must not return a negative m(Θ):
 // (o, e) = (0.0011497404f, 0.99885029f) is a state the alternating-update test reached with float
-// storage (update 21); stored, the pair rounds to 19289 + 16757926 = 2^24 - 1 steps: m̃(Θ) = 0
-// exactly.
+// storage (update 21); stored, the pair rounds to 9645 + 8378963 = 2^23 steps: m̃(Θ) = 0 exactly.
 TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
   Cell c = Cell::fromStored(0.0011497404193505645f, 0.99885028600692749f, 10.935624122619629f);
   ASSERT_EQ(c.unknown(), 0.0f);
@@ -366,15 +365,17 @@ TEST(CellTest, AlternatingBalancedUpdatesStayFinite) {
   EXPECT_NEAR(c.free(), 0.5, 1e-3);
 }
 
-// Storage: masses round to the nearest 1/(2^24 - 1) with the pair kept in the simplex (m̃(Θ) >= 0
+// Storage: masses round to the nearest 2^-23 with the pair kept in the simplex (m̃(Θ) >= 0
 // exactly), out-of-range inputs are clamped, λ is a half float and never negative.
 TEST(CellTest, StorageRoundsIntoTheSimplex) {
-  constexpr double kSteps = 16777215.0;
+  constexpr double kSteps = 8388608.0;
   const Cell a = Cell::fromStored(0.3f, 0.5f, 0.0f);
-  // 0.3f (0.30000001) * (2^24 - 1) = 5033164.7 -> 5033165; 0.5 * (2^24 - 1) = 8388607.5 -> 8388608
-  EXPECT_EQ(a.occupied(), static_cast<float>(5033165.0 / kSteps));
-  EXPECT_EQ(a.free(), static_cast<float>(8388608.0 / kSteps));
-  EXPECT_EQ(a.unknown(), static_cast<float>(3355442.0 / kSteps));
+  // 0.3f (0.30000001) * 2^23 = 2516582.6 -> 2516583; 0.5 * 2^23 = 4194304; the rest: 1677721
+  EXPECT_EQ(a.occupied(), static_cast<float>(2516583.0 / kSteps));
+  EXPECT_EQ(a.free(), 0.5f);
+  EXPECT_EQ(a.unknown(), static_cast<float>(1677721.0 / kSteps));
+  // Every stored mass is a float exactly: storing it again changes nothing.
+  EXPECT_TRUE(Cell::fromStored(a.occupied(), a.free(), a.lambda()) == a);
   const Cell b = Cell::fromStored(0.6f, 0.6f, 0.0f);  // sums to 1.2: free gets the remainder
   EXPECT_EQ(b.unknown(), 0.0f);
   EXPECT_NEAR(b.occupied(), 0.6, 1e-7);

@@ -12,7 +12,7 @@
 namespace evidential_slam {
 namespace {
 
-// Cells store m̃ in steps of 1/(2^24 - 1) and λ as a half float (2^-11 relative): a measure of a cell
+// Cells store m̃ in steps of 2^-23 and λ as a half float (2^-11 relative): a measure of a cell
 // made from nominal masses is that close to the hand-computed value (EC = 1 bit: within 3.5e-4).
 constexpr double kTol = 5e-4;
 

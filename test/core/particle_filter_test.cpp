@@ -337,11 +337,20 @@ TEST(ParticleFilterTest, HitBeamSubsetMatchesStridedPlausibility) {
   int hits = 0;
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     switch (i % 7) {
-      case 1: scan.valid[i] = 0; break;
-      case 3: scan.ranges[i] = std::nanf(""); break;
-      case 4: scan.ranges[i] = 0.01f; break;
-      case 5: scan.ranges[i] = 25.0f; break;
-      default: ++hits;
+      case 1:
+        scan.valid[i] = 0;
+        break;
+      case 3:
+        scan.ranges[i] = std::nanf("");
+        break;
+      case 4:
+        scan.ranges[i] = 0.01f;
+        break;
+      case 5:
+        scan.ranges[i] = 25.0f;
+        break;
+      default:
+        ++hits;
     }
   }
   const Pose2 moved = pose.compose(Pose2(0.03, -0.02, 0.01));

@@ -59,7 +59,7 @@ TEST(EvidentialOcTreeNode, PayloadIsSixteenBytesAndRoundTrips) {
   float v[4];
   std::memcpy(v, bytes.data(), sizeof(v));
   EXPECT_EQ(v[0], occupancyLogOdds(node.cell()));
-  // The cell's stored values (quantised: m̃ in steps of 1/(2^24 - 1), λ a half float).
+  // The cell's stored values (quantised: m̃ in steps of 2^-23, λ a half float).
   EXPECT_EQ(v[1], node.cell().occupied());
   EXPECT_EQ(v[2], node.cell().free());
   EXPECT_EQ(v[3], node.cell().lambda());

@@ -48,14 +48,15 @@ inline ScanMass fuseDempster(const ScanMass& a, const ScanMass& b) {
 // Stored belief of one cell (algorithm.md §2.3): the normalised pair m̃(o), m̃(e) (m̃(Θ) = 1 - both)
 // and lambda = -ln(1 - m(∅)). This never saturates: alternating contradicting updates grow lambda
 // instead of driving the stored masses to rounding noise. Quantised to 8 bytes (12 as three
-// floats; the grid is memory-bound and its tiles are most of the memory): m̃(o) and m̃(e) as
-// multiples of 1/(2^24 - 1) whose sum never exceeds 1, so m̃(Θ) >= 0 exactly, and lambda as an
-// IEEE half float (11 significant bits, up to 65504 nats). Near certainty the masses are as precise
-// as floats (2^-24): 16-bit masses, which round m̃(Θ) to 0 sooner, cost accuracy on noisy lasers
-// (range_030_bearing_015.rawlog: ATE 0.40-0.55 m against 0.29-0.37 m). A vacuous cell is all zeros.
+// floats; the grid is memory-bound and its tiles are most of the memory): m̃(o) and m̃(e) as 24-bit
+// multiples of 2^-23 whose sum never exceeds 1, so m̃(Θ) >= 0 exactly and every stored mass is a
+// float exactly, and lambda as an IEEE half float (11 significant bits, up to 65504 nats). Near
+// certainty the masses are about as fine as floats: 16-bit masses, which round m̃(Θ) to 0 sooner,
+// cost accuracy on noisy lasers (range_030_bearing_015.rawlog: ATE 0.40-0.55 m against
+// 0.29-0.39 m). A vacuous cell is all zeros.
 class Cell {
  public:
-  static constexpr uint32_t kMassSteps = (1u << 24) - 1;  // a mass of 1
+  static constexpr uint32_t kMassSteps = 1u << 23;  // a mass of 1
 
   float occupied() const { return toMass(occupiedSteps()); }                            // m̃(o)
   float free() const { return toMass(freeSteps()); }                                    // m̃(e)

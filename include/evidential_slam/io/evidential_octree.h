@@ -46,21 +46,28 @@ class EvidentialOcTreeNode : public octomap::OcTreeNode {
 
   EvidentialOcTreeNode() = default;
 
-  const Cell& cell() const { return cell_; }
+  // The belief as a grid cell (rounded to the grid's storage; exact for a node the export wrote).
+  Cell cell() const { return Cell::fromStored(occupied_, free_, lambda_); }
   // Sets the belief and the OctoMap value (occupancyLogOdds) together.
   void setCell(const Cell& cell) {
-    cell_ = cell;
+    occupied_ = cell.occupied();
+    free_ = cell.free();
+    lambda_ = cell.lambda();
     setLogOdds(occupancyLogOdds(cell));
   }
-  Mass mass() const { return cell_.toMass(); }  // m(∅), m(o), m(e), m(Θ)
+  // m(∅), m(o), m(e), m(Θ) from the node's own floats (as read from a file, not rounded).
+  Mass mass() const;
 
   // Pruning merges children only when this is true for all of them: equal value and masses.
   bool operator==(const EvidentialOcTreeNode& rhs) const {
-    return value == rhs.value && cell_ == rhs.cell_;
+    return value == rhs.value && occupied_ == rhs.occupied_ && free_ == rhs.free_ &&
+           lambda_ == rhs.lambda_;
   }
   void copyData(const EvidentialOcTreeNode& from) {
     OcTreeNode::copyData(from);
-    cell_ = from.cell_;
+    occupied_ = from.occupied_;
+    free_ = from.free_;
+    lambda_ = from.lambda_;
   }
 
   // File I/O of the payload (layout above). readData sets failbit on a short read and on values
@@ -69,7 +76,10 @@ class EvidentialOcTreeNode : public octomap::OcTreeNode {
   std::ostream& writeData(std::ostream& s) const;
 
  private:
-  Cell cell_;
+  // Floats, as in the file: a node reads and writes any valid payload bit for bit.
+  float occupied_ = 0.0f;  // m̃(o)
+  float free_ = 0.0f;      // m̃(e)
+  float lambda_ = 0.0f;    // λ
 };
 
 class EvidentialOcTree : public octomap::OccupancyOcTreeBase<EvidentialOcTreeNode> {

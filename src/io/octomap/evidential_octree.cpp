@@ -54,13 +54,27 @@ std::istream& EvidentialOcTreeNode::readData(std::istream& s) {
     s.setstate(std::ios::failbit);
     return s;
   }
-  cell_ = Cell::fromStored(v[1], v[2], v[3]);
+  occupied_ = v[1];
+  free_ = v[2];
+  lambda_ = v[3];
   return s;
 }
 
 std::ostream& EvidentialOcTreeNode::writeData(std::ostream& s) const {
-  const float v[4] = {value, cell_.occupied(), cell_.free(), cell_.lambda()};
+  const float v[4] = {value, occupied_, free_, lambda_};
   return s.write(reinterpret_cast<const char*>(v), sizeof(v));
+}
+
+Mass EvidentialOcTreeNode::mass() const {
+  // As Cell::toMass, on the unrounded floats; m(Θ) never negative (the pair may sum to a hair
+  // above 1 within isValidStoredCell's tolerance).
+  const double keep = std::exp(-static_cast<double>(lambda_));
+  Mass m;
+  m.conflict = -std::expm1(-static_cast<double>(lambda_));
+  m.occupied = keep * occupied_;
+  m.free = keep * free_;
+  m.unknown = keep * std::max(0.0, 1.0 - static_cast<double>(occupied_) - free_);
+  return m;
 }
 
 // ---- tree ---------------------------------------------------------------------------------------
