@@ -32,6 +32,12 @@ struct ForwardPass {
     }
     passed *= 1.0 - mo - mu * g;
   }
+  // pl(z) = (1 - r) S + r, S completed by the virtual obstacle at z_max (window `tail_window`)
+  // unless the pass stopped.
+  double plausibility(float tail_window, double r) const {
+    const double s = stopped ? collected : collected + passed * tail_window;
+    return (1.0 - r) * s + r;
+  }
 };
 
 }  // namespace
@@ -180,9 +186,7 @@ double BeamModel::beamPlausibility(const EvidentialGridMap& map, const RayCell* 
     const double d = cells[i].distance;
     pass.visit(map.cell(cells[i].x, cells[i].y), d, hitWindow(z - d), z);
   }
-  if (!pass.stopped) pass.collected += pass.passed * hitWindow(z - config_.usable_range);
-  const double r = config_.random_weight;
-  return (1.0 - r) * pass.collected + r;
+  return pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight);
 }
 
 double BeamModel::scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced,
@@ -318,11 +322,9 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
   const CellIndex sensor_cell = map->worldToCell(origin.x(), origin.y());
   scratch->reset(sensor_cell, windowHalfCells());
   const ScanMass clear = clearMass();
-  const double r = config_.random_weight;
   int hit_beams = 0;
-  bool any = false;
-  forEachRay(sensor_in_map, scan, &out.rays_bad, &out.rays_no_return, [&](const Ray& ray) {
-    any = true;
+  uint64_t rays_bad = 0, rays_no_return = 0;  // counted by the engine (SlamEngine::stats)
+  forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
     if (!ray.hit) {
       traverse(origin, ray.angle, ray.length,
                [&](int cx, int cy, float) { scratch->add(cx, cy, clear); });
@@ -339,10 +341,9 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
       scratch->add(cx, cy, m);
     });
     if (!weigh) return;
-    if (!pass.stopped) pass.collected += pass.passed * hitWindow(z - config_.usable_range);
-    out.log_plausibility += std::log((1.0 - r) * pass.collected + r);
+    out.log_plausibility +=
+        std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
   });
-  if (!any) return out;
   out.conflict.open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
   out.conflict_added_bits = scratch->applyTo(map, &out.conflict.mass_added) / kLn2;
   return out;

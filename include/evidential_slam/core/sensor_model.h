@@ -170,8 +170,6 @@ class BeamModel {
     double log_plausibility = 0.0;  // as scanLogPlausibility, on the map before this scan
     double conflict_added_bits = 0.0;
     ScanConflict conflict;
-    uint64_t rays_bad = 0;
-    uint64_t rays_no_return = 0;
   };
   // traceScan, scanLogPlausibility (every `stride`-th hit beam) and integrateScan in one traversal
   // of the beams, with the same results: the weight reads the map before the scan is applied.
