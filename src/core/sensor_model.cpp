@@ -76,35 +76,43 @@ uint32_t ScanAccumulator::newBlock(int tile_x, int tile_y) {
   return used_blocks_++;
 }
 
+template <typename Fn>
+void ScanAccumulator::forEachTouched(Fn&& fn) const {
+  for (uint32_t b = 0; b < used_blocks_; ++b) {
+    const Block& block = blocks_[b];
+    for (size_t w = 0; w < block.touched.size(); ++w) {
+      for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
+        fn(block, w * 64 + static_cast<size_t>(__builtin_ctzll(bits)));
+      }
+    }
+  }
+}
+
 size_t ScanAccumulator::touched() const {
   size_t n = 0;
-  for (uint32_t b = 0; b < used_blocks_; ++b) {
-    for (uint64_t word : blocks_[b].touched) n += static_cast<size_t>(__builtin_popcountll(word));
-  }
+  forEachTouched([&](const Block&, size_t) { ++n; });
   return n;
 }
 
 double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added) const {
   double added = 0.0, mass = 0.0;
-  for (uint32_t b = 0; b < used_blocks_; ++b) {
-    const Block& block = blocks_[b];
-    EvidentialGridMap::Tile& tile = map->mutableTile(block.tile_x, block.tile_y);
-    for (size_t w = 0; w < block.touched.size(); ++w) {
-      for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
-        const size_t k = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
-        Cell& c = tile.cells[k];
-        float lambda_before = 0.0f;
-        const float conflict = updateCell(c, block.mass[k], &lambda_before);
-        if (conflict <= 0.0f) continue;
-        // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
-        // exp(-λ) K (exact increments; the stored λ is rounded).
-        added -= std::log1p(-std::min(conflict, 1.0f - 1.0f / (1 << 24)));
-        if (conflict_mass_added != nullptr) {
-          mass += std::exp(-static_cast<double>(lambda_before)) * conflict;
-        }
-      }
+  const Block* tile_block = nullptr;
+  EvidentialGridMap::Tile* tile = nullptr;
+  forEachTouched([&](const Block& block, size_t k) {
+    if (&block != tile_block) {  // the blocks' cells come together: one tile lookup per block
+      tile_block = &block;
+      tile = &map->mutableTile(block.tile_x, block.tile_y);
     }
-  }
+    float lambda_before = 0.0f;
+    const float conflict = updateCell(tile->cells[k], block.mass[k], &lambda_before);
+    if (conflict <= 0.0f) return;
+    // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
+    // exp(-λ) K (exact increments; the stored λ is rounded).
+    added -= std::log1p(-std::min(conflict, kMaxUpdateConflict));
+    if (conflict_mass_added != nullptr) {
+      mass += std::exp(-static_cast<double>(lambda_before)) * conflict;
+    }
+  });
   if (conflict_mass_added != nullptr) *conflict_mass_added = mass;
   return added;
 }
@@ -112,31 +120,25 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
 double ScanAccumulator::openSpaceConflict(const EvidentialGridMap& map, int radius) const {
   auto believedFree = [](const Cell& c) { return c.free() > c.occupied(); };
   double mass = 0.0;
-  for (uint32_t b = 0; b < used_blocks_; ++b) {
-    const Block& block = blocks_[b];
-    for (size_t w = 0; w < block.touched.size(); ++w) {
-      for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
-        const size_t k = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
-        const ScanMass& m = block.mass[k];
-        if (m.occupied < 0.5f) continue;  // m̃(e) s(o) >= 1/2 needs s(o) >= 1/2
-        const int x = (block.tile_x << kTileBits) | static_cast<int>(k & (kTileSize - 1));
-        const int y = (block.tile_y << kTileBits) | static_cast<int>(k >> kTileBits);
-        const Cell& c = map.cell(x, y);
-        if (static_cast<double>(c.free()) * m.occupied < 0.5) continue;
-        bool open = true;
-        for (int dy = -radius; dy <= radius && open; ++dy) {
-          for (int dx = -radius; dx <= radius && open; ++dx) {
-            open = believedFree(map.cell(x + dx, y + dy));
-          }
-        }
-        if (!open) continue;
-        // The m(∅) applyTo will add to this cell: e^{-λ} K.
-        const double conflict =
-            static_cast<double>(c.occupied()) * m.free + static_cast<double>(c.free()) * m.occupied;
-        mass += std::exp(-static_cast<double>(c.lambda())) * conflict;
+  forEachTouched([&](const Block& block, size_t k) {
+    const ScanMass& m = block.mass[k];
+    if (m.occupied < 0.5f) return;  // m̃(e) s(o) >= 1/2 needs s(o) >= 1/2
+    const int x = (block.tile_x << kTileBits) | static_cast<int>(k & (kTileSize - 1));
+    const int y = (block.tile_y << kTileBits) | static_cast<int>(k >> kTileBits);
+    const Cell& c = map.cell(x, y);
+    if (static_cast<double>(c.free()) * m.occupied < 0.5) return;
+    bool open = true;
+    for (int dy = -radius; dy <= radius && open; ++dy) {
+      for (int dx = -radius; dx <= radius && open; ++dx) {
+        open = believedFree(map.cell(x + dx, y + dy));
       }
     }
-  }
+    if (!open) return;
+    // The m(∅) applyTo will add to this cell: e^{-λ} K.
+    const double conflict =
+        static_cast<double>(c.occupied()) * m.free + static_cast<double>(c.free()) * m.occupied;
+    mass += std::exp(-static_cast<double>(c.lambda())) * conflict;
+  });
   return mass;
 }
 

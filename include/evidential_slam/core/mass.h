@@ -112,6 +112,10 @@ class Cell {
   Eigen::half lambda_{0.0f};
 };
 
+// The conflict K of one update is capped here, the largest float below 1 (λ += 16.6 nats): K = 1
+// (certain, opposite masses) would make λ infinite.
+constexpr float kMaxUpdateConflict = 1.0f - 1.0f / (1 << 24);
+
 // Conjunctive update of a stored cell by a scan mass (algorithm.md §2.3); exact up to the storage's
 // rounding, never NaN. Returns the conflict K of this update (lambda grew by -ln(1 - K)) and, when
 // K > 0 and asked, lambda before the update.
@@ -124,12 +128,9 @@ inline float updateCell(Cell& cell, const ScanMass& scan, float* lambda_before =
   cell.setMasses((c_o * (scan.occupied + s_u) + c_u * scan.occupied) / norm,
                  (c_e * (scan.free + s_u) + c_u * scan.free) / norm);
   if (k > 0.0f) {
-    // K = 1 (certain, opposite masses) would make λ infinite: capped at the largest float below 1
-    // (λ += 16.6 nats).
-    constexpr float kMaxConflict = 1.0f - 1.0f / (1 << 24);
     const float before = cell.lambda();
     if (lambda_before != nullptr) *lambda_before = before;
-    cell.setLambda(before - std::log1p(-std::min(k, kMaxConflict)));
+    cell.setLambda(before - std::log1p(-std::min(k, kMaxUpdateConflict)));
   }
   return k;
 }

@@ -110,6 +110,9 @@ class ScanAccumulator {
     std::array<ScanMass, kTileCells> mass;
   };
   uint32_t newBlock(int tile_x, int tile_y);
+  // fn(block, k) for every touched cell k of every block of this scan, block by block.
+  template <typename Fn>
+  void forEachTouched(Fn&& fn) const;
 
   int tile_x0_ = 0;
   int tile_y0_ = 0;
