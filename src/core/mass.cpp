@@ -39,17 +39,19 @@ Mass combineDempster(const Mass& a, const Mass& b) {
   return r;
 }
 
-Mass Cell::toMass() const {
-  // m(X) = (1 - m(∅)) m̃(X) with 1 - m(∅) = exp(-lambda); expm1 keeps small conflicts exact.
-  const double l = lambda();
-  const double keep = std::exp(-l);
+Mass massFromNormalised(double occupied, double free, double lambda) {
+  const double keep = std::exp(-lambda);
   Mass m;
-  m.conflict = -std::expm1(-l);
-  m.occupied = keep * occupied();
-  m.free = keep * free();
-  m.unknown = keep * unknown();
+  m.conflict = -std::expm1(-lambda);  // expm1 keeps small conflicts exact
+  m.occupied = keep * occupied;
+  m.free = keep * free;
+  m.unknown = keep * std::max(0.0, 1.0 - occupied - free);
   return m;
 }
+
+// The stored masses are multiples of 2^-23 summing to at most 1: 1 - m̃(o) - m̃(e) is exact in
+// double and equals unknown().
+Mass Cell::toMass() const { return massFromNormalised(occupied(), free(), lambda()); }
 
 Cell Cell::fromMass(const Mass& m) {
   Cell c;

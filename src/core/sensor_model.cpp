@@ -298,20 +298,30 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
   const RayCell& first = traced.cells.front();
   scratch->reset(CellIndex{first.x, first.y}, windowHalfCells());
-  const ScanMass clear = clearMass();
   for (const TracedBeam& b : traced.beams) {
     for (uint32_t i = b.begin; i < b.end; ++i) {
       const RayCell& c = traced.cells[i];
-      if (!b.hit) {
-        scratch->add(c.x, c.y, clear);
-        continue;
-      }
-      const ScanMass m = inverseMass(c.distance - b.range);
-      if (m.occupied == 0.0f && m.free == 0.0f) continue;  // vacuous: nothing to add
-      scratch->add(c.x, c.y, m);
+      addEvidence(scratch, c.x, c.y, c.distance, b.range, b.hit);
     }
   }
+  return applyScan(scratch, map, conflict);
+}
+
+void BeamModel::addEvidence(ScanAccumulator* scratch, int cx, int cy, float distance, double range,
+                            bool hit) const {
+  if (!hit) {
+    scratch->add(cx, cy, clearMass());
+    return;
+  }
+  const ScanMass m = inverseMass(distance - range);
+  if (m.occupied == 0.0f && m.free == 0.0f) return;  // vacuous: nothing to add
+  scratch->add(cx, cy, m);
+}
+
+double BeamModel::applyScan(ScanAccumulator* scratch, EvidentialGridMap* map,
+                            ScanConflict* conflict) const {
   if (conflict == nullptr) return scratch->applyTo(map) / kLn2;
+  // Before the update: it reads the neighbours of the cells the update changes.
   conflict->open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
   return scratch->applyTo(map, &conflict->mass_added) / kLn2;
 }
@@ -323,31 +333,22 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
   const Eigen::Vector2d origin = sensor_in_map.translation();
   const CellIndex sensor_cell = map->worldToCell(origin.x(), origin.y());
   scratch->reset(sensor_cell, windowHalfCells());
-  const ScanMass clear = clearMass();
   int hit_beams = 0;
   uint64_t rays_bad = 0, rays_no_return = 0;  // counted by the engine (SlamEngine::stats)
   forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
-    if (!ray.hit) {
-      traverse(origin, ray.angle, ray.length,
-               [&](int cx, int cy, float) { scratch->add(cx, cy, clear); });
-      return;
-    }
     const double z = ray.range;
-    const bool weigh = hit_beams++ % stride == 0;
+    const bool weigh = ray.hit && hit_beams++ % stride == 0;
     ForwardPass pass;
     pass.stopped = !weigh;
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
       if (!pass.stopped) pass.visit(map->cell(cx, cy), d, hitWindow(z - d), z);
-      const ScanMass m = inverseMass(d - z);
-      if (m.occupied == 0.0f && m.free == 0.0f) return;  // vacuous: nothing to add
-      scratch->add(cx, cy, m);
+      addEvidence(scratch, cx, cy, d, z, ray.hit);
     });
     if (!weigh) return;
     out.log_plausibility +=
         std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
   });
-  out.conflict.open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
-  out.conflict_added_bits = scratch->applyTo(map, &out.conflict.mass_added) / kLn2;
+  out.conflict_added_bits = applyScan(scratch, map, &out.conflict);
   return out;
 }
 

@@ -21,6 +21,10 @@ struct Mass {
   static Mass make(double conflict, double occupied, double free);  // m(Θ) is the remainder
 };
 
+// The explicit masses of a stored belief (algorithm.md §2.3): m(X) = (1 - m(∅)) m̃(X) with
+// 1 - m(∅) = exp(-lambda); m̃(Θ) = 1 - m̃(o) - m̃(e), never below 0.
+Mass massFromNormalised(double occupied, double free, double lambda);
+
 // Unnormalised conjunctive rule (paper eq. 3/9): all disagreement goes to m(∅).
 Mass combineConjunctive(const Mass& a, const Mass& b);
 // Dempster's rule: conjunctive rule, then the conflict is normalised away (m(∅) = 0).

@@ -201,6 +201,12 @@ class BeamModel {
   // the ray crosses, outwards, up to `length`.
   template <typename Fn>
   void traverse(const Eigen::Vector2d& origin, double angle, double length, Fn&& fn) const;
+  // The scan's evidence for one cell of a ray: clear mass, or the inverse model at `distance` from
+  // the sensor for a hit at `range`.
+  void addEvidence(ScanAccumulator* scratch, int cx, int cy, float distance, double range,
+                   bool hit) const;
+  // Applies the accumulated scan to `map`; EC added in bits, and the conflict measures if asked.
+  double applyScan(ScanAccumulator* scratch, EvidentialGridMap* map, ScanConflict* conflict) const;
   // Half of the accumulator window: the longest ray, in cells.
   int windowHalfCells() const;
 

@@ -66,15 +66,9 @@ std::ostream& EvidentialOcTreeNode::writeData(std::ostream& s) const {
 }
 
 Mass EvidentialOcTreeNode::mass() const {
-  // As Cell::toMass, on the unrounded floats; m(Θ) never negative (the pair may sum to a hair
-  // above 1 within isValidStoredCell's tolerance).
-  const double keep = std::exp(-static_cast<double>(lambda_));
-  Mass m;
-  m.conflict = -std::expm1(-static_cast<double>(lambda_));
-  m.occupied = keep * occupied_;
-  m.free = keep * free_;
-  m.unknown = keep * std::max(0.0, 1.0 - static_cast<double>(occupied_) - free_);
-  return m;
+  // On the unrounded floats (the pair may sum to a hair above 1 within isValidStoredCell's
+  // tolerance: m(Θ) is then 0).
+  return massFromNormalised(occupied_, free_, lambda_);
 }
 
 // ---- tree ---------------------------------------------------------------------------------------
