@@ -405,5 +405,18 @@ TEST(CellTest, CertainlyFreeCellIsAFixedPointOfMisses) {
   EXPECT_EQ(c.free(), 1.0f);  // K normalises the hit away: m̃ stays (0, 1)
 }
 
+// A certain, opposite update (K = 1) caps K at the largest float below 1: λ grows by
+// -ln(2^-24) = 24 ln 2 = 16.6355 nats instead of becoming infinite; the masses stay finite.
+TEST(CellTest, TotalConflictKeepsLambdaFinite) {
+  Cell c = Cell::fromStored(1.0f, 0.0f, 0.0f);
+  float lambda_before = -1.0f;
+  EXPECT_EQ(updateCell(c, ScanMass{0.0f, 1.0f}, &lambda_before), 1.0f);
+  EXPECT_EQ(lambda_before, 0.0f);
+  EXPECT_TRUE(std::isfinite(c.lambda()));
+  EXPECT_NEAR(c.lambda(), 24.0 * std::log(2.0), lambdaTolerance(16.6355));
+  EXPECT_TRUE(std::isfinite(c.occupied()) && std::isfinite(c.free()));
+  EXPECT_TRUE(std::isfinite(externalConflict(c)));
+}
+
 }  // namespace
 }  // namespace evidential_slam
