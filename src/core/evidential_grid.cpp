@@ -7,6 +7,32 @@ namespace evidential_slam {
 
 const Cell EvidentialGridMap::kVacuousCell{};
 
+const EvidentialGridMap::Tile::Rows& EvidentialGridMap::Tile::occupiedRows(float threshold,
+                                                                           Rows* scratch) const {
+  int state = rows_state_.load(std::memory_order_acquire);
+  if (state == kRowsReady && rows_threshold_ == threshold) return rows_;
+  if (state == kRowsNone &&
+      rows_state_.compare_exchange_strong(state, kRowsBuilding, std::memory_order_acq_rel)) {
+    buildOccupiedRows(threshold, &rows_);
+    rows_threshold_ = threshold;
+    rows_state_.store(kRowsReady, std::memory_order_release);
+    return rows_;
+  }
+  buildOccupiedRows(threshold, scratch);
+  return *scratch;
+}
+
+void EvidentialGridMap::Tile::buildOccupiedRows(float threshold, Rows* rows) const {
+  for (int y = 0; y < kTileSize; ++y) {
+    uint32_t bits = 0;
+    const Cell* row = &cells[static_cast<size_t>(y) * kTileSize];
+    for (int x = 0; x < kTileSize; ++x) {
+      bits |= static_cast<uint32_t>(row[x].occupied() >= threshold) << x;
+    }
+    (*rows)[static_cast<size_t>(y)] = bits;
+  }
+}
+
 void CellBox::extend(const CellBox& other) {
   if (other.empty()) return;
   if (empty()) {
@@ -20,11 +46,6 @@ void CellBox::extend(const CellBox& other) {
 }
 
 EvidentialGridMap::EvidentialGridMap(double resolution) : resolution_(resolution) {}
-
-CellIndex EvidentialGridMap::worldToCell(double x, double y) const {
-  return {static_cast<int>(std::floor(x / resolution_)),
-          static_cast<int>(std::floor(y / resolution_))};
-}
 
 Eigen::Vector2d EvidentialGridMap::cellCenter(const CellIndex& c) const {
   return {(c.x + 0.5) * resolution_, (c.y + 0.5) * resolution_};
@@ -74,6 +95,8 @@ EvidentialGridMap::Tile& EvidentialGridMap::mutableTileSlow(int tx, int ty) {
     // Shared with another grid: clone before writing. (Another thread may release its copy
     // concurrently; then we clone needlessly, which is harmless.)
     slot = std::make_shared<Tile>(*slot);
+  } else {
+    slot->dropOccupiedRows();  // owned after all: the other grid released it meanwhile
   }
   return *slot;
 }

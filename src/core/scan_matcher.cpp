@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace evidential_slam {
 namespace {
@@ -10,6 +11,9 @@ constexpr double kKernelStepsPerCell2 = 64.0;
 constexpr double kRobustScale = 0.1;
 constexpr double kConvergedTranslation = 1e-4;  // m
 constexpr double kConvergedRotation = 1e-4;     // rad
+// search(): ICP steps every start gets, and how many of the best-scoring starts then run on.
+constexpr int kCoarseIterations = 4;
+constexpr int kFinishedStarts = 2;
 
 // Reads the 3 x 3 cells around (cx, cy) of a grid.
 class Neighbourhood {
@@ -36,6 +40,100 @@ class Neighbourhood {
 };
 const Cell Neighbourhood::kVacuous{};
 
+// ICP's correspondence search on one map: for an endpoint in cell `hit` probed free in cell
+// `free`, the nearest offset o within `radius` cells (ties: smaller dy, then smaller dx) with
+// m̃(o)(hit + o) and m̃(e)(free + o) both ≥ `threshold`. Occupied cells are found from the tiles'
+// occupied rows (EvidentialGridMap::Tile::occupiedRows), a word per row of the window, so an
+// endpoint with no target near it costs a few words, not a cell read per offset.
+class CorrespondenceSearch {
+ public:
+  CorrespondenceSearch(const EvidentialGridMap& map, float threshold, int radius,
+                       const std::vector<int>& row_half_width)
+      : map_(map), threshold_(threshold), radius_(radius), row_half_width_(row_half_width) {}
+
+  bool nearest(const CellIndex& hit, const CellIndex& free, CellIndex* offset) {
+    const int r = radius_;
+    fetchTiles(hit.x - r, hit.y - r, hit.x + r, hit.y + r);
+    // Rows by growing |dy|, until dy² alone exceeds the best d².
+    int best_d2 = std::numeric_limits<int>::max(), best_dy = 0, best_dx = 0;
+    for (int k = 0; k <= r && k * k <= best_d2; ++k) {
+      const int w = row_half_width_[static_cast<size_t>(k)];
+      for (const int dy : {-k, k}) {
+        forEachOccupied(hit.y + dy, hit.x - w, hit.x + w, [&](int x) {
+          const int dx = x - hit.x, d2 = dx * dx + dy * dy;
+          if (d2 > best_d2 ||
+              (d2 == best_d2 && (dy > best_dy || (dy == best_dy && dx > best_dx)))) {
+            return;
+          }
+          if (map_.cell(free.x + dx, free.y + dy).free() < threshold_) return;
+          best_d2 = d2;
+          best_dy = dy;
+          best_dx = dx;
+        });
+        if (k == 0) break;
+      }
+    }
+    if (best_d2 == std::numeric_limits<int>::max()) return false;
+    *offset = CellIndex{best_dx, best_dy};
+    return true;
+  }
+
+ private:
+  using Rows = EvidentialGridMap::Tile::Rows;
+  static constexpr int kBits = EvidentialGridMap::kTileBits;
+  static constexpr int kSize = EvidentialGridMap::kTileSize;
+
+  // The occupied rows of the tiles covering the cell box (vacuous tiles: no bits).
+  // Consecutive endpoints mostly need the same tiles: kept when the box of tiles is unchanged.
+  void fetchTiles(int min_x, int min_y, int max_x, int max_y) {
+    const int tx0 = min_x >> kBits, ty0 = min_y >> kBits;
+    const int nx = (max_x >> kBits) - tx0 + 1, ny = (max_y >> kBits) - ty0 + 1;
+    if (tx0 == tx0_ && ty0 == ty0_ && nx == nx_ && ny == ny_) return;
+    tx0_ = tx0;
+    ty0_ = ty0;
+    nx_ = nx;
+    ny_ = ny;
+    const size_t n = static_cast<size_t>(nx_) * static_cast<size_t>(ny);
+    rows_.assign(n, &kNoRows);
+    if (scratch_.size() < n) scratch_.resize(n);
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx_; ++i) {
+        const EvidentialGridMap::Tile* t = map_.tile(tx0_ + i, ty0_ + j);
+        if (t == nullptr) continue;
+        const size_t k = static_cast<size_t>(j) * nx_ + i;
+        rows_[k] = &t->occupiedRows(threshold_, &scratch_[k]);
+      }
+    }
+  }
+  // Calls visit(x) for each x in [x0, x1] whose cell (x, y) is occupied, x ascending.
+  template <typename Visit>
+  void forEachOccupied(int y, int x0, int x1, Visit visit) const {
+    const size_t row_base = static_cast<size_t>((y >> kBits) - ty0_) * nx_;
+    const size_t in_tile = static_cast<size_t>(y & (kSize - 1));
+    for (int tx = x0 >> kBits; tx <= x1 >> kBits; ++tx) {
+      uint32_t bits = (*rows_[row_base + static_cast<size_t>(tx - tx0_)])[in_tile];
+      if (bits == 0) continue;
+      const int base = tx << kBits;
+      const int lo = std::max(x0, base) - base, hi = std::min(x1, base + kSize - 1) - base;
+      bits &= (0xFFFFFFFFu >> (kSize - 1 - hi)) & (0xFFFFFFFFu << lo);
+      while (bits != 0) {
+        visit(base + __builtin_ctz(bits));
+        bits &= bits - 1;
+      }
+    }
+  }
+
+  static const Rows kNoRows;
+  const EvidentialGridMap& map_;
+  const float threshold_;
+  const int radius_;
+  const std::vector<int>& row_half_width_;
+  int tx0_ = 0, ty0_ = 0, nx_ = 0, ny_ = 0;  // the box of tiles fetched (none yet)
+  std::vector<const Rows*> rows_;
+  std::vector<Rows> scratch_;
+};
+const CorrespondenceSearch::Rows CorrespondenceSearch::kNoRows{};
+
 // The 3x3 cells score() looks at, the centre (the endpoint's own cell) first.
 constexpr CellIndex kScoreNeighbours[9] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
                                            {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
@@ -44,15 +142,12 @@ constexpr CellIndex kScoreNeighbours[9] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, 
 ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor,
                          double resolution)
     : config_(config), sensor_(sensor), resolution_(resolution) {
-  const int r = static_cast<int>(std::ceil(config_.search_radius / resolution_));
-  for (int dy = -r; dy <= r; ++dy) {
-    for (int dx = -r; dx <= r; ++dx) {
-      if (dx * dx + dy * dy <= r * r) spiral_.push_back(CellIndex{dx, dy});
-    }
+  search_cells_ = static_cast<int>(std::ceil(config_.search_radius / resolution_));
+  for (int dy = 0; dy <= search_cells_; ++dy) {
+    int w = 0;
+    while ((w + 1) * (w + 1) + dy * dy <= search_cells_ * search_cells_) ++w;
+    row_half_width_.push_back(w);
   }
-  std::stable_sort(spiral_.begin(), spiral_.end(), [](const CellIndex& a, const CellIndex& b) {
-    return a.x * a.x + a.y * a.y < b.x * b.x + b.y * b.y;
-  });
   const double sigma_cells = config_.score_sigma / resolution_;
   kernel_scale_ = kKernelStepsPerCell2;
   kernel_.resize(static_cast<size_t>(std::ceil(8.0 * kernel_scale_)) + 2);  // up to (2 cells)² · 2
@@ -117,10 +212,18 @@ double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
   return total;
 }
 
+bool ScanMatcher::correspondence(const EvidentialGridMap& map, const CellIndex& hit,
+                                 const CellIndex& free, CellIndex* offset) const {
+  CorrespondenceSearch search(map, static_cast<float>(config_.occupied_threshold), search_cells_,
+                              row_half_width_);
+  return search.nearest(hit, free, offset);
+}
+
 bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
                           Pose2* pose) const {
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
-  const float threshold = static_cast<float>(config_.occupied_threshold);
+  CorrespondenceSearch targets(map, static_cast<float>(config_.occupied_threshold), search_cells_,
+                               row_half_width_);
   // Weighted sums for the closed-form 2-D rigid alignment of matched pairs (q -> y).
   double sw = 0, sqx = 0, sqy = 0, syx = 0, syy = 0;
   std::vector<Eigen::Vector4d> pairs;  // q.x, q.y, y.x, y.y
@@ -133,21 +236,18 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     const CellIndex q = map.worldToCell(qx, qy);
     const CellIndex f = map.worldToCell(pose->x + c * p.free.x() - s * p.free.y(),
                                         pose->y + s * p.free.x() + c * p.free.y());
-    for (const CellIndex& o : spiral_) {
-      if (map.cell(q.x + o.x, q.y + o.y).occupied() < threshold) continue;
-      if (map.cell(f.x + o.x, f.y + o.y).free() < threshold) continue;
-      const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
-      const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
-      const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
-      pairs.emplace_back(qx, qy, yx, yy);
-      weights.push_back(w);
-      sw += w;
-      sqx += w * qx;
-      sqy += w * qy;
-      syx += w * yx;
-      syy += w * yy;
-      break;
-    }
+    CellIndex o;
+    if (!targets.nearest(q, f, &o)) continue;
+    const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
+    const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
+    const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
+    pairs.emplace_back(qx, qy, yx, yy);
+    weights.push_back(w);
+    sw += w;
+    sqx += w * qx;
+    sqy += w * qy;
+    syx += w * yx;
+    syy += w * yy;
   }
   if (pairs.size() <
       std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
@@ -205,9 +305,10 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
   return current;
 }
 
-bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
-                      Pose2* pose) const {
-  for (int it = 0; it < config_.icp_iterations; ++it) {
+bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts, Pose2* pose,
+                      int iterations, bool* converged) const {
+  if (converged != nullptr) *converged = false;
+  for (int it = 0; it < iterations; ++it) {
     const Pose2 before = *pose;
     if (!icpStep(map, pts, pose)) {
       *pose = before;
@@ -216,6 +317,7 @@ bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint
     const Pose2 change = before.between(*pose);
     if (std::hypot(change.x, change.y) < kConvergedTranslation &&
         std::abs(change.theta) < kConvergedRotation) {
+      if (converged != nullptr) *converged = true;
       break;
     }
   }
@@ -226,7 +328,7 @@ Pose2 ScanMatcher::refine(const EvidentialGridMap& map, const Pose2& initial,
                           const std::vector<MatchPoint>& pts) const {
   if (pts.empty()) return initial;
   Pose2 pose = initial;
-  if (!icp(map, pts, &pose)) return initial;
+  if (!icp(map, pts, &pose, config_.icp_iterations, nullptr)) return initial;
   return config_.max_iterations > 0 ? hillClimb(map, pose, pts) : pose;
 }
 
@@ -236,16 +338,44 @@ Pose2 ScanMatcher::search(const EvidentialGridMap& map, const Pose2& predicted,
   *best_score_out = -1.0;
   if (pts.empty()) return predicted;
   const int n = static_cast<int>(std::floor(heading_window / config_.heading_step + 1e-9));
-  Pose2 best = predicted;
-  double best_score = -1.0;
+  // Coarse to fine: every start gets a few ICP steps, then only the best-scoring unconverged
+  // starts run on to the iteration cap. Starts at a wrong heading rarely converge, and ran to the
+  // cap (half of all ICP steps on freiburg-079).
+  struct Start {
+    Pose2 pose;
+    double score;
+    bool converged;
+  };
+  std::vector<Start> starts;
+  const int coarse =
+      n > 0 ? std::min(kCoarseIterations, config_.icp_iterations) : config_.icp_iterations;
   for (int i = 0; i <= 2 * n; ++i) {
     const int k = (i + 1) / 2 * (i % 2 == 1 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
-    Pose2 pose(predicted.x, predicted.y, predicted.theta + k * config_.heading_step);
-    if (!icp(map, pts, &pose)) continue;
-    const double s = score(map, pose, pts);
-    if (s > best_score) {
-      best_score = s;
-      best = pose;
+    Start start{Pose2(predicted.x, predicted.y, predicted.theta + k * config_.heading_step), 0.0,
+                false};
+    if (!icp(map, pts, &start.pose, coarse, &start.converged)) continue;
+    start.score = score(map, start.pose, pts);
+    starts.push_back(start);
+  }
+  if (coarse < config_.icp_iterations) {
+    // Stable: equal scores keep the order of the starts (the prediction first).
+    std::stable_sort(starts.begin(), starts.end(),
+                     [](const Start& a, const Start& b) { return a.score > b.score; });
+    int finished = 0;
+    for (Start& start : starts) {
+      if (finished == kFinishedStarts) break;
+      if (start.converged) continue;
+      ++finished;
+      icp(map, pts, &start.pose, config_.icp_iterations - coarse, nullptr);
+      start.score = score(map, start.pose, pts);
+    }
+  }
+  Pose2 best = predicted;
+  double best_score = -1.0;
+  for (const Start& start : starts) {
+    if (start.score > best_score) {
+      best_score = start.score;
+      best = start.pose;
     }
   }
   *best_score_out = best_score;

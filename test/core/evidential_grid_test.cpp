@@ -293,5 +293,45 @@ TEST(EvidentialGridTest, AccumulateUniqueTileBytesCountsSharedTilesOnce) {
   EXPECT_EQ(seen2.size(), 4u);
 }
 
+// A tile's occupied rows: bit x of row y set exactly when the cell's m̃(o) ≥ the threshold; cached
+// for the first threshold (another threshold is answered in the caller's scratch), dropped by a
+// write, and not carried into the clone a shared tile gets on its first write.
+TEST(EvidentialGridTest, OccupiedRowsFollowTheCells) {
+  using Rows = EvidentialGridMap::Tile::Rows;
+  const auto expectRows = [](const EvidentialGridMap& map, int tx, int ty, float threshold) {
+    Rows scratch{};
+    const Rows& rows = map.tile(tx, ty)->occupiedRows(threshold, &scratch);
+    for (int y = 0; y < EvidentialGridMap::kTileSize; ++y) {
+      for (int x = 0; x < EvidentialGridMap::kTileSize; ++x) {
+        const Cell& c =
+            map.cell(tx * EvidentialGridMap::kTileSize + x, ty * EvidentialGridMap::kTileSize + y);
+        EXPECT_EQ((rows[static_cast<size_t>(y)] >> x) & 1u, c.occupied() >= threshold ? 1u : 0u)
+            << tx << " " << ty << " " << x << " " << y << " " << threshold;
+      }
+    }
+    return &rows == &scratch;
+  };
+  EvidentialGridMap a(0.05);
+  setOccupied(a.mutableCell(-32, -1), 0.25f);  // tile (-1, -1): cell (0, 31)
+  setOccupied(a.mutableCell(-1, -32), 0.9f);   // cell (31, 0)
+  setOccupied(a.mutableCell(-10, -10), 0.2f);  // below 0.25
+  setFree(a.mutableCell(-11, -10), 1.0f);
+  EXPECT_FALSE(expectRows(a, -1, -1, 0.25f));  // built into the tile's cache
+  EXPECT_FALSE(expectRows(a, -1, -1, 0.25f));  // read from it
+  EXPECT_TRUE(expectRows(a, -1, -1, 0.1f));    // another threshold: the scratch
+
+  EvidentialGridMap b = a;                     // shares the tile and its cache
+  setOccupied(b.mutableCell(-10, -10), 0.5f);  // b's clone gets the cell ...
+  EXPECT_FALSE(expectRows(b, -1, -1, 0.25f));  // ... and rows built afresh
+  EXPECT_FALSE(expectRows(a, -1, -1, 0.25f));  // a's cache is still right: a did not change
+  Rows scratch{};
+  EXPECT_EQ(a.tile(-1, -1)->occupiedRows(0.25f, &scratch)[22], 0u);
+  EXPECT_EQ(b.tile(-1, -1)->occupiedRows(0.25f, &scratch)[22], 1u << 22);
+
+  setOccupied(a.mutableCell(-31, -31), 0.3f);  // a write in place drops a's cache
+  EXPECT_FALSE(expectRows(a, -1, -1, 0.25f));
+  EXPECT_EQ(a.tile(-1, -1)->occupiedRows(0.25f, &scratch)[1], 1u << 1);
+}
+
 }  // namespace
 }  // namespace evidential_slam

@@ -2,7 +2,9 @@
 // refine() pulls a perturbed pose back onto it. Behavioural tests (no closed-form numbers).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "evidential_slam/core/scan_matcher.h"
@@ -138,6 +140,68 @@ TEST_F(ScanMatcherTest, ScoreEqualsItsDefinition) {
   }
   EXPECT_EQ(compared, 169);
   EXPECT_GT(reference(truth_), 0.0);
+}
+
+// correspondence() against its definition, searched plainly: every offset within the search
+// radius in the order (d², dy, dx), the first whose hit cell holds m̃(o) ≥ threshold and whose
+// free cell m̃(e) ≥ threshold. On a random map around tile corners (negative cells included), with
+// a radius of 8 cells (the default) and of 40 (rows spanning three 32-cell tiles), for hit cells
+// with and without a target in reach.
+TEST(ScanMatcherCorrespondenceTest, EqualsNearestQualifyingOffset) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  EvidentialGridMap map(0.05);
+  for (int y = -70; y < 70; ++y) {
+    for (int x = -70; x < 70; ++x) {
+      const float u = unit(rng);
+      if (u < 0.04f) map.mutableCell(x, y).setMasses(0.3f + 0.7f * unit(rng), 0.0f);  // target
+      if (u > 0.5f) map.mutableCell(x, y).setMasses(0.0f, unit(rng));
+    }
+  }
+  for (const double radius : {0.4, 2.0}) {
+    ScanMatcherConfig config;
+    config.search_radius = radius;
+    const ScanMatcher matcher(config, SensorModelConfig(), 0.05);
+    const int r = static_cast<int>(std::ceil(radius / 0.05));
+    std::vector<CellIndex> order;
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        if (dx * dx + dy * dy <= r * r) order.push_back(CellIndex{dx, dy});
+      }
+    }
+    std::stable_sort(order.begin(), order.end(), [](const CellIndex& a, const CellIndex& b) {
+      return a.x * a.x + a.y * a.y < b.x * b.x + b.y * b.y;
+    });
+    const float threshold = static_cast<float>(config.occupied_threshold);
+    std::uniform_int_distribution<int> coord(-90, 90), step(-3, 3);
+    int found = 0, none = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const CellIndex hit{coord(rng), coord(rng)};
+      const CellIndex free{hit.x + step(rng), hit.y + step(rng)};
+      bool expected = false;
+      CellIndex expected_offset;
+      for (const CellIndex& o : order) {
+        if (map.cell(hit.x + o.x, hit.y + o.y).occupied() < threshold) continue;
+        if (map.cell(free.x + o.x, free.y + o.y).free() < threshold) continue;
+        expected = true;
+        expected_offset = o;
+        break;
+      }
+      CellIndex offset{1000, 1000};
+      ASSERT_EQ(matcher.correspondence(map, hit, free, &offset), expected)
+          << radius << " " << hit.x << " " << hit.y;
+      if (expected) {
+        EXPECT_EQ(offset, expected_offset) << radius << " " << hit.x << " " << hit.y;
+        ++found;
+      } else {
+        ++none;
+      }
+    }
+    EXPECT_GT(found, 500) << radius;
+    if (radius < 1.0) {
+      EXPECT_GT(none, 100);  // hit cells beyond the mapped square
+    }
+  }
 }
 
 }  // namespace

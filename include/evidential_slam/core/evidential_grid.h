@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -38,15 +40,43 @@ class EvidentialGridMap {
   static constexpr int kTileBits = 5;
   static constexpr int kTileSize = 1 << kTileBits;  // cells per tile side
   static constexpr int kTileCells = kTileSize * kTileSize;
-  struct Tile {
+  class Tile {
+   public:
+    Tile() = default;
+    // A clone copies the cells; its occupied index is rebuilt on first use.
+    Tile(const Tile& other) : cells(other.cells) {}
+    Tile& operator=(const Tile&) = delete;
+
     std::array<Cell, kTileCells> cells{};
+
+    // One bit per cell whose m̃(o) ≥ threshold, a 32-bit word per row (bit x of word y is the
+    // cell at (x, y) in the tile): the scan matcher's correspondence search scans rows of it
+    // instead of reading cells one by one. Cached in the tile for the first threshold asked, so
+    // the particles sharing a tile build it once; any write access (mutableTile) drops it.
+    // Readers may call it concurrently (a tile is never written while others read it: copy on
+    // write); a reader that finds the cache busy or built for another threshold gets the rows
+    // built in `scratch`.
+    using Rows = std::array<uint32_t, kTileSize>;
+    const Rows& occupiedRows(float threshold, Rows* scratch) const;
+    void dropOccupiedRows() { rows_state_.store(kRowsNone, std::memory_order_release); }
+
+   private:
+    enum : int { kRowsNone = 0, kRowsBuilding = 1, kRowsReady = 2 };
+    void buildOccupiedRows(float threshold, Rows* rows) const;
+
+    mutable std::atomic<int> rows_state_{kRowsNone};
+    mutable float rows_threshold_ = 0.0f;
+    mutable Rows rows_{};
   };
 
   EvidentialGridMap() : EvidentialGridMap(0.05) {}
   explicit EvidentialGridMap(double resolution);
 
   double resolution() const { return resolution_; }
-  CellIndex worldToCell(double x, double y) const;
+  CellIndex worldToCell(double x, double y) const {
+    return {static_cast<int>(std::floor(x / resolution_)),
+            static_cast<int>(std::floor(y / resolution_))};
+  }
   Eigen::Vector2d cellCenter(const CellIndex& c) const;
 
   // Read access; cells outside the allocated area are vacuous.
@@ -76,7 +106,10 @@ class EvidentialGridMap {
     const int ix = tx - tile_x0_, iy = ty - tile_y0_;
     if (ix >= 0 && iy >= 0 && ix < tiles_w_ && iy < tiles_h_) {
       std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(iy) * tiles_w_ + ix];
-      if (slot && slot.use_count() == 1) return *slot;  // owned: write in place
+      if (slot && slot.use_count() == 1) {  // owned: write in place
+        slot->dropOccupiedRows();
+        return *slot;
+      }
     }
     return mutableTileSlow(tx, ty);
   }

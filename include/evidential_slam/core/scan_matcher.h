@@ -35,9 +35,15 @@ class ScanMatcher {
   // Refined pose, or `initial` when too few endpoints find an occupied cell nearby.
   Pose2 refine(const EvidentialGridMap& map, const Pose2& initial,
                const std::vector<MatchPoint>& endpoints) const;
-  // Multi-start ICP: from `predicted` turned by 0, ±heading_step, ... up to ±`heading_window`;
-  // the converged pose with the best score() (in `best_score`; -1 when no start matches and
-  // `predicted` is returned).
+  // ICP's correspondence for an endpoint in cell `hit` whose probe in front of it is in cell
+  // `free`: the nearest offset o within search_radius (ties: smaller dy, then smaller dx) with
+  // m̃(o)(hit + o) and m̃(e)(free + o) both ≥ occupied_threshold; false when there is none.
+  bool correspondence(const EvidentialGridMap& map, const CellIndex& hit, const CellIndex& free,
+                      CellIndex* offset) const;
+  // Multi-start ICP: from `predicted` turned by 0, ±heading_step, ... up to ±`heading_window`,
+  // coarse to fine (every start a few ICP steps, the two best-scoring then to convergence); the
+  // pose with the best score() (in `best_score`; -1 when no start matches and `predicted` is
+  // returned).
   Pose2 search(const EvidentialGridMap& map, const Pose2& predicted,
                const std::vector<MatchPoint>& endpoints, double heading_window,
                double* best_score) const;
@@ -46,18 +52,20 @@ class ScanMatcher {
   // One ICP iteration; false when too few endpoints matched.
   bool icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
                Pose2* pose) const;
-  // ICP to convergence from `start`; false when the first step finds too few matches.
-  bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
-           Pose2* pose) const;
+  // ICP from *pose for at most `iterations` steps (`converged`: stopped before); false when the
+  // first step finds too few matches.
+  bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints, Pose2* pose,
+           int iterations, bool* converged) const;
   Pose2 hillClimb(const EvidentialGridMap& map, const Pose2& start,
                   const std::vector<MatchPoint>& endpoints) const;
 
   ScanMatcherConfig config_;
   SensorModelConfig sensor_;
   double resolution_;
-  std::vector<CellIndex> spiral_;  // cell offsets within search_radius, nearest first
-  double kernel_scale_;            // kernel_ table entries per squared cell distance
-  std::vector<float> kernel_;      // exp(-d²/2σ²) over squared distance in cells²
+  int search_cells_;                 // search_radius in cells (rounded up)
+  std::vector<int> row_half_width_;  // [|dy|]: largest dx with dx² + dy² ≤ search_cells_²
+  double kernel_scale_;              // kernel_ table entries per squared cell distance
+  std::vector<float> kernel_;        // exp(-d²/2σ²) over squared distance in cells²
 };
 
 }  // namespace evidential_slam
