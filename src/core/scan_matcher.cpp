@@ -11,9 +11,6 @@ constexpr double kKernelStepsPerCell2 = 64.0;
 constexpr double kRobustScale = 0.1;
 constexpr double kConvergedTranslation = 1e-4;  // m
 constexpr double kConvergedRotation = 1e-4;     // rad
-// search(): ICP steps every start gets, and how many of the best-scoring starts then run on.
-constexpr int kCoarseIterations = 4;
-constexpr int kFinishedStarts = 2;
 
 // Reads the 3 x 3 cells around (cx, cy) of a grid.
 class Neighbourhood {
@@ -305,10 +302,9 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
   return current;
 }
 
-bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts, Pose2* pose,
-                      int iterations, bool* converged) const {
-  if (converged != nullptr) *converged = false;
-  for (int it = 0; it < iterations; ++it) {
+bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
+                      Pose2* pose) const {
+  for (int it = 0; it < config_.icp_iterations; ++it) {
     const Pose2 before = *pose;
     if (!icpStep(map, pts, pose)) {
       *pose = before;
@@ -317,7 +313,6 @@ bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint
     const Pose2 change = before.between(*pose);
     if (std::hypot(change.x, change.y) < kConvergedTranslation &&
         std::abs(change.theta) < kConvergedRotation) {
-      if (converged != nullptr) *converged = true;
       break;
     }
   }
@@ -328,7 +323,7 @@ Pose2 ScanMatcher::refine(const EvidentialGridMap& map, const Pose2& initial,
                           const std::vector<MatchPoint>& pts) const {
   if (pts.empty()) return initial;
   Pose2 pose = initial;
-  if (!icp(map, pts, &pose, config_.icp_iterations, nullptr)) return initial;
+  if (!icp(map, pts, &pose)) return initial;
   return config_.max_iterations > 0 ? hillClimb(map, pose, pts) : pose;
 }
 
@@ -338,44 +333,16 @@ Pose2 ScanMatcher::search(const EvidentialGridMap& map, const Pose2& predicted,
   *best_score_out = -1.0;
   if (pts.empty()) return predicted;
   const int n = static_cast<int>(std::floor(heading_window / config_.heading_step + 1e-9));
-  // Coarse to fine: every start gets a few ICP steps, then only the best-scoring unconverged
-  // starts run on to the iteration cap. Starts at a wrong heading rarely converge, and ran to the
-  // cap (half of all ICP steps on freiburg-079).
-  struct Start {
-    Pose2 pose;
-    double score;
-    bool converged;
-  };
-  std::vector<Start> starts;
-  const int coarse =
-      n > 0 ? std::min(kCoarseIterations, config_.icp_iterations) : config_.icp_iterations;
-  for (int i = 0; i <= 2 * n; ++i) {
-    const int k = (i + 1) / 2 * (i % 2 == 1 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
-    Start start{Pose2(predicted.x, predicted.y, predicted.theta + k * config_.heading_step), 0.0,
-                false};
-    if (!icp(map, pts, &start.pose, coarse, &start.converged)) continue;
-    start.score = score(map, start.pose, pts);
-    starts.push_back(start);
-  }
-  if (coarse < config_.icp_iterations) {
-    // Stable: equal scores keep the order of the starts (the prediction first).
-    std::stable_sort(starts.begin(), starts.end(),
-                     [](const Start& a, const Start& b) { return a.score > b.score; });
-    int finished = 0;
-    for (Start& start : starts) {
-      if (finished == kFinishedStarts) break;
-      if (start.converged) continue;
-      ++finished;
-      icp(map, pts, &start.pose, config_.icp_iterations - coarse, nullptr);
-      start.score = score(map, start.pose, pts);
-    }
-  }
   Pose2 best = predicted;
   double best_score = -1.0;
-  for (const Start& start : starts) {
-    if (start.score > best_score) {
-      best_score = start.score;
-      best = start.pose;
+  for (int i = 0; i <= 2 * n; ++i) {
+    const int k = (i + 1) / 2 * (i % 2 == 1 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
+    Pose2 pose(predicted.x, predicted.y, predicted.theta + k * config_.heading_step);
+    if (!icp(map, pts, &pose)) continue;
+    const double s = score(map, pose, pts);
+    if (s > best_score) {
+      best_score = s;
+      best = pose;
     }
   }
   *best_score_out = best_score;

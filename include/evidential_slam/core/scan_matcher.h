@@ -40,10 +40,9 @@ class ScanMatcher {
   // m̃(o)(hit + o) and m̃(e)(free + o) both ≥ occupied_threshold; false when there is none.
   bool correspondence(const EvidentialGridMap& map, const CellIndex& hit, const CellIndex& free,
                       CellIndex* offset) const;
-  // Multi-start ICP: from `predicted` turned by 0, ±heading_step, ... up to ±`heading_window`,
-  // coarse to fine (every start a few ICP steps, the two best-scoring then to convergence); the
-  // pose with the best score() (in `best_score`; -1 when no start matches and `predicted` is
-  // returned).
+  // Multi-start ICP: from `predicted` turned by 0, ±heading_step, ... up to ±`heading_window`;
+  // the converged pose with the best score() (in `best_score`; -1 when no start matches and
+  // `predicted` is returned).
   Pose2 search(const EvidentialGridMap& map, const Pose2& predicted,
                const std::vector<MatchPoint>& endpoints, double heading_window,
                double* best_score) const;
@@ -52,10 +51,9 @@ class ScanMatcher {
   // One ICP iteration; false when too few endpoints matched.
   bool icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
                Pose2* pose) const;
-  // ICP from *pose for at most `iterations` steps (`converged`: stopped before); false when the
-  // first step finds too few matches.
-  bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints, Pose2* pose,
-           int iterations, bool* converged) const;
+  // ICP to convergence from `start`; false when the first step finds too few matches.
+  bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
+           Pose2* pose) const;
   Pose2 hillClimb(const EvidentialGridMap& map, const Pose2& start,
                   const std::vector<MatchPoint>& endpoints) const;
 
