@@ -340,5 +340,28 @@ TEST_F(OfflineE2E, MaxScans) {
   checkOutputs(out, 40);
 }
 
+// Regression on a real robot: Radish's ACES log (440 scans, 22 minutes) with its raw wheel odometry
+// (benchmark data outside the package: shared/ beside the clone, or $ES_RADISH_DIR), mapped with
+// the real robots' preset at K = 30 (about 15 s on 2 cores). Odometry alone is off by 5.4 m RMSE;
+// SLAM must stay within issue 6's target, 0.5 m (seeds 1-3 gave 0.31, 0.23, 0.25 m). Skipped,
+// saying why, where the logs are absent.
+TEST_F(OfflineE2E, RealRobotLogWithRawOdometry) {
+  const char* env_dir = std::getenv("ES_RADISH_DIR");
+  const fs::path dir = env_dir != nullptr ? env_dir : ES_RADISH_DIR;
+  const fs::path log = dir / "aces.rawlog", truth = dir / "aces.GT.txt";
+  if (!fs::exists(log) || !fs::exists(truth)) GTEST_SKIP() << "no Radish logs in " << dir;
+  const fs::path out = scratch_ / "out";
+  const Result r =
+      runOffline({"--rawlog", log.string(), "--out", out.string(), "--ground-truth", truth.string(),
+                  "--preset", "real", "--particles", "30", "--seed", "1", "--threads", "2"},
+                 scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = summaryOf(out);
+  EXPECT_EQ(j["scans_total"], 440);
+  EXPECT_GT(j["scans_processed"].get<int>(), 400);
+  EXPECT_GT(j["odometry_ate_rmse_m"].get<double>(), 5.0);
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.5);
+}
+
 }  // namespace
 }  // namespace evidential_slam
