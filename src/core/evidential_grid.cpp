@@ -7,6 +7,16 @@ namespace evidential_slam {
 
 const Cell EvidentialGridMap::kVacuousCell{};
 
+EvidentialGridMap::Tile::Tile(const Tile& other) : cells(other.cells) {
+  // The source is shared and not written meanwhile; its rows may be being built by a reader, in
+  // which case the clone builds its own when asked.
+  if (other.rows_state_.load(std::memory_order_acquire) == kRowsReady) {
+    rows_ = other.rows_;
+    rows_threshold_ = other.rows_threshold_;
+    rows_state_.store(kRowsReady, std::memory_order_relaxed);
+  }
+}
+
 const EvidentialGridMap::Tile::Rows& EvidentialGridMap::Tile::occupiedRows(float threshold,
                                                                            Rows* scratch) const {
   int state = rows_state_.load(std::memory_order_acquire);
@@ -95,8 +105,6 @@ EvidentialGridMap::Tile& EvidentialGridMap::mutableTileSlow(int tx, int ty) {
     // Shared with another grid: clone before writing. (Another thread may release its copy
     // concurrently; then we clone needlessly, which is harmless.)
     slot = std::make_shared<Tile>(*slot);
-  } else {
-    slot->dropOccupiedRows();  // owned after all: the other grid released it meanwhile
   }
   return *slot;
 }

@@ -105,6 +105,7 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
     }
     float lambda_before = 0.0f;
     const float conflict = updateCell(tile->cells[k], block.mass[k], &lambda_before);
+    tile->cellWritten(static_cast<int>(k));
     if (conflict <= 0.0f) return;
     // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
     // exp(-λ) K (exact increments; the stored λ is rounded).

@@ -494,5 +494,60 @@ TEST(IntegrateScanTest, AccumulatorAcrossTilesAndNegativeCells) {
   EXPECT_EQ(scratch.touched(), 0u);
 }
 
+// The map update keeps the tiles' occupied rows (the scan matcher's targets) true: rows built
+// before a scan are updated cell by cell as the scan is applied, in place and in the clones a
+// particle sharing the tiles gets; the other particle's rows stay those of its cells.
+TEST(IntegrateScanTest, UpdateKeepsOccupiedRowsTrue) {
+  const BeamModel model(SensorModelConfig(), 0.05);
+  constexpr float kThreshold = 0.25f;
+  EvidentialGridMap map(0.05);
+  ScanAccumulator scratch;
+  TracedScan traced;
+  const auto integrate = [&](EvidentialGridMap* m, const Pose2& pose) {
+    model.traceScan(pose, testing_room::roomScan(pose, 0.0, true), &traced);
+    model.integrateScan(traced, m, &scratch);
+  };
+  // Builds (or reads) every tile's rows and compares them with the cells; the number of tiles.
+  const auto checkRows = [&](const EvidentialGridMap& m) {
+    const CellBox box = m.allocatedBox();
+    int tiles = 0;
+    for (int ty = box.min_y >> EvidentialGridMap::kTileBits;
+         ty <= box.max_y >> EvidentialGridMap::kTileBits; ++ty) {
+      for (int tx = box.min_x >> EvidentialGridMap::kTileBits;
+           tx <= box.max_x >> EvidentialGridMap::kTileBits; ++tx) {
+        const EvidentialGridMap::Tile* tile = m.tile(tx, ty);
+        if (tile == nullptr) continue;
+        ++tiles;
+        EvidentialGridMap::Tile::Rows spare{};
+        const EvidentialGridMap::Tile::Rows& rows = tile->occupiedRows(kThreshold, &spare);
+        EXPECT_NE(&rows, &spare);  // the tile's own rows
+        for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
+          const uint32_t bit = (rows[static_cast<size_t>(k >> EvidentialGridMap::kTileBits)] >>
+                                (k & (EvidentialGridMap::kTileSize - 1))) &
+                               1u;
+          EXPECT_EQ(bit, tile->cells[static_cast<size_t>(k)].occupied() >= kThreshold ? 1u : 0u)
+              << tx << " " << ty << " " << k;
+        }
+      }
+    }
+    return tiles;
+  };
+  integrate(&map, Pose2(-0.3, -0.2, 0.2));
+  EXPECT_GE(checkRows(map), 9);            // rows built from the cells
+  integrate(&map, Pose2(0.4, 0.3, -0.5));  // written in place: rows updated cell by cell
+  checkRows(map);
+  EvidentialGridMap particle = map;             // shares every tile, and its rows
+  integrate(&particle, Pose2(-0.6, 0.5, 1.0));  // clones: the rows come along and are updated
+  checkRows(particle);
+  checkRows(map);
+  // Enough walls seen for the rows to mean something: some targets, not everything.
+  size_t targets = 0;
+  for (int y = -45; y < 45; ++y) {
+    for (int x = -45; x < 45; ++x) targets += particle.cell(x, y).occupied() >= kThreshold;
+  }
+  EXPECT_GT(targets, 200u);
+  EXPECT_LT(targets, 2000u);
+}
+
 }  // namespace
 }  // namespace evidential_slam

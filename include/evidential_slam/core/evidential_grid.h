@@ -43,21 +43,29 @@ class EvidentialGridMap {
   class Tile {
    public:
     Tile() = default;
-    // A clone copies the cells; its occupied index is rebuilt on first use.
-    Tile(const Tile& other) : cells(other.cells) {}
+    // A clone copies the cells and, when built, the occupied rows.
+    Tile(const Tile& other);
     Tile& operator=(const Tile&) = delete;
 
     std::array<Cell, kTileCells> cells{};
 
     // One bit per cell whose m̃(o) ≥ threshold, a 32-bit word per row (bit x of word y is the
     // cell at (x, y) in the tile): the scan matcher's correspondence search scans rows of it
-    // instead of reading cells one by one. Cached in the tile for the first threshold asked, so
-    // the particles sharing a tile build it once; any write access (mutableTile) drops it.
-    // Readers may call it concurrently (a tile is never written while others read it: copy on
-    // write); a reader that finds the cache busy or built for another threshold gets the rows
-    // built in `scratch`.
+    // instead of reading cells one by one. Built in the tile on the first call (for the first
+    // threshold asked), so the particles sharing a tile build it once, and kept through clones
+    // and map updates (cellWritten). Readers may call it concurrently (a tile is never written
+    // while others read it: copy on write); a reader that finds the rows being built, or built
+    // for another threshold, gets them built in `scratch`.
     using Rows = std::array<uint32_t, kTileSize>;
     const Rows& occupiedRows(float threshold, Rows* scratch) const;
+    // Whoever writes cells of a tile it owns (mutableTile) tells it, per cell written (k: index
+    // in `cells`) or for the whole tile, so the rows stay true.
+    void cellWritten(int k) {
+      if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
+      const uint32_t bit = 1u << (k & (kTileSize - 1));
+      uint32_t& row = rows_[static_cast<size_t>(k >> kTileBits)];
+      row = cells[static_cast<size_t>(k)].occupied() >= rows_threshold_ ? row | bit : row & ~bit;
+    }
     void dropOccupiedRows() { rows_state_.store(kRowsNone, std::memory_order_release); }
 
    private:
@@ -101,20 +109,21 @@ class EvidentialGridMap {
     return ((cy & (kTileSize - 1)) << kTileBits) | (cx & (kTileSize - 1));
   }
 
-  // Write access: grows the grid and clones a shared tile before returning it.
+  // Write access: grows the grid and clones a shared tile before returning it. The caller tells
+  // the tile which cells it wrote (Tile::cellWritten).
   Tile& mutableTile(int tx, int ty) {
     const int ix = tx - tile_x0_, iy = ty - tile_y0_;
     if (ix >= 0 && iy >= 0 && ix < tiles_w_ && iy < tiles_h_) {
       std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(iy) * tiles_w_ + ix];
-      if (slot && slot.use_count() == 1) {  // owned: write in place
-        slot->dropOccupiedRows();
-        return *slot;
-      }
+      if (slot && slot.use_count() == 1) return *slot;  // owned: write in place
     }
     return mutableTileSlow(tx, ty);
   }
+  // For writing one cell (drops the tile's occupied rows: see Tile::cellWritten).
   Cell& mutableCell(int cx, int cy) {
-    return mutableTile(cx >> kTileBits, cy >> kTileBits).cells[cellInTile(cx, cy)];
+    Tile& tile = mutableTile(cx >> kTileBits, cy >> kTileBits);
+    tile.dropOccupiedRows();
+    return tile.cells[cellInTile(cx, cy)];
   }
 
   // Box of allocated tiles (in cells); empty for a fresh grid.
