@@ -58,8 +58,8 @@ class EvidentialGridMap {
     // for another threshold, gets them built in `scratch`.
     using Rows = std::array<uint32_t, kTileSize>;
     const Rows& occupiedRows(float threshold, Rows* scratch) const;
-    // Whoever writes cells of a tile it owns (mutableTile) tells it, per cell written (k: index
-    // in `cells`) or for the whole tile, so the rows stay true.
+    // Whoever writes cells of a tile it owns (mutableTile) keeps the rows true: cellWritten(k)
+    // after writing cells[k], or dropOccupiedRows() after writing any cells.
     void cellWritten(int k) {
       if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
       const uint32_t bit = 1u << (k & (kTileSize - 1));
