@@ -253,7 +253,7 @@ def ours_name(resolution):
 
 
 def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, resolution=None,
-             preset=None):
+             preset=None, params=()):
     if os.path.isdir(run_dir):
         shutil.rmtree(run_dir)
     out_dir = os.path.join(run_dir, "out")
@@ -267,6 +267,8 @@ def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, res
         cmd += ["--resolution", str(resolution)]
     if preset is not None:
         cmd += ["--preset", preset]
+    for kv in params:
+        cmd += ["--param", kv]
     r = measured_run(cmd, run_dir)
     r.update(method=ours_name(resolution), seed=seed)
     if r["rc"] != 0:
@@ -428,6 +430,9 @@ def parse_args(argv):
     p.add_argument("--rbpf-slam", default=shutil.which("rbpf-slam", path="/usr/bin:" +
                                                        os.environ.get("PATH", "")),
                    help="rbpf-slam binary (default: from PATH)")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="set one of our SLAM parameters by its ROS name (repeatable; passed to "
+                        "evidential_slam_offline --param), e.g. resample_threshold=0.3")
     p.add_argument("--mrpt-set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a key in both MRPT configs (repeatable), e.g. "
                         "enableLikelihoodCache=0")
@@ -520,7 +525,7 @@ def main(argv):
                     run, a.runs, label, method, k), end="", flush=True)
                 if method.startswith("ours"):
                     r = run_ours(a.offline, rawlog, gt_path, gt, run_dir, run, k, a.threads, ini,
-                                 a.preset)
+                                 a.preset, a.param)
                 else:
                     r = run_mrpt(method, ini, mrpt_rawlog, gt, run_dir, run, a.overrides,
                                  a.rbpf_slam, a.mrpt_path)
@@ -545,6 +550,8 @@ def main(argv):
                 "mrpt_path": a.mrpt_path,
                 "ours_path": "trajectory.tum"},
         "mrpt_overrides": dict(a.overrides),
+        "ours_preset": a.preset,
+        "ours_params": list(a.param),
         "logs": {label: {"rawlog": p, "mrpt_rawlog": m, "ground_truth": g,
                          "duration_s": durations[label]} for label, p, g, m in logs},
         "summary": rows,

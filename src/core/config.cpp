@@ -1,7 +1,9 @@
 #include "evidential_slam/core/config.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <system_error>
 
 namespace evidential_slam {
 namespace {
@@ -119,5 +121,87 @@ bool SlamConfig::isValid(std::string* why) const {
 }
 
 void applyRealRobotPreset(SlamConfig* config) { config->matcher.heading_window = 0.35; }
+
+namespace {
+
+// The SlamConfig part of the node's run-time parameters (ros/params.cpp lists the same names
+// with their dynamic_reconfigure fields; a test in test/ros checks that both agree).
+template <typename Visitor>
+void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
+  visit("hit_sigma", c.sensor.hit_sigma);
+  visit("forward_sigma", c.sensor.forward_sigma);
+  visit("forward_window", c.sensor.forward_window);
+  visit("free_gap", c.sensor.free_gap);
+  visit("random_weight", c.sensor.random_weight);
+  visit("prior_occupied", c.sensor.prior_occupied);
+  visit("usable_range", c.sensor.usable_range);
+  visit("min_range", c.sensor.min_range);
+  visit("clear_no_return", c.sensor.clear_no_return);
+  visit("weight_beam_stride", c.sensor.weight_beam_stride);
+  visit("alpha_rot_rot", c.motion.alpha_rot_rot);
+  visit("alpha_rot_trans", c.motion.alpha_rot_trans);
+  visit("alpha_trans_trans", c.motion.alpha_trans_trans);
+  visit("alpha_trans_rot", c.motion.alpha_trans_rot);
+  visit("update_min_distance", c.update_min_distance);
+  visit("update_min_angle", c.update_min_angle);
+  visit("likelihood_temperature", c.likelihood_temperature);
+  visit("resample_threshold", c.resample_threshold);
+  visit("scan_matching", c.matcher.enabled);
+  visit("matcher_search_radius", c.matcher.search_radius);
+  visit("matcher_heading_window", c.matcher.heading_window);
+  visit("matcher_heading_step", c.matcher.heading_step);
+}
+
+// Whole-string parses; false on junk, overflow or a non-finite number.
+bool parseValue(const std::string& text, double* out) {
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), *out);
+  return r.ec == std::errc() && r.ptr == text.data() + text.size() && std::isfinite(*out);
+}
+bool parseValue(const std::string& text, int* out) {
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), *out);
+  return r.ec == std::errc() && r.ptr == text.data() + text.size();
+}
+bool parseValue(const std::string& text, bool* out) {
+  if (text == "true" || text == "1") {
+    *out = true;
+  } else if (text == "false" || text == "0") {
+    *out = false;
+  } else {
+    return false;
+  }
+  return true;
+}
+const char* typeWord(double) { return "a number"; }
+const char* typeWord(int) { return "an integer"; }
+const char* typeWord(bool) { return "true or false"; }
+
+}  // namespace
+
+std::vector<std::string> slamParameterNames() {
+  std::vector<std::string> names;
+  SlamConfig scratch;
+  forEachSlamParameter(scratch, [&names](const char* name, auto&) { names.emplace_back(name); });
+  return names;
+}
+
+bool setSlamParameter(const std::string& name, const std::string& value, SlamConfig* config,
+                      std::string* why) {
+  bool found = false, parsed = false;
+  std::string type;
+  forEachSlamParameter(*config, [&](const char* n, auto& field) {
+    if (found || name != n) return;
+    found = true;
+    auto v = field;
+    parsed = parseValue(value, &v);
+    if (parsed) field = v;
+    type = typeWord(field);
+  });
+  if (!found) {
+    if (why != nullptr) *why = "unknown parameter '" + name + "'";
+    return false;
+  }
+  if (!parsed && why != nullptr) *why = name + " wants " + type + ", not '" + value + "'";
+  return parsed;
+}
 
 }  // namespace evidential_slam

@@ -85,6 +85,7 @@ int Run::execute() {
   summary_.rawlog = opt_.rawlog;
   summary_.ground_truth = opt_.ground_truth;
   summary_.preset = opt_.preset;
+  summary_.parameters = opt_.parameters;
   summary_.particles = opt_.slam.particles;
   summary_.resolution = opt_.slam.resolution;
   summary_.seed = opt_.slam.seed;
@@ -320,11 +321,30 @@ double peakRssMb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
+namespace {
+
+// "a, b, c" wrapped to the usage text's indentation.
+std::string paramNameList() {
+  std::string text, line;
+  for (const std::string& name : slamParameterNames()) {
+    const std::string item = (text.empty() && line.empty() ? "" : ", ") + name;
+    if (line.size() + item.size() > 62) {
+      text += line + ",\n                        ";
+      line = name;
+    } else {
+      line += item;
+    }
+  }
+  return text + line;
+}
+
+}  // namespace
+
 std::string offlineUsage(const std::string& program) {
   return "usage: " + program +
          " --rawlog FILE --out DIR [--ground-truth GT.txt] [--preset sim|real] [--particles K]\n"
          "       [--seed N] [--resolution M] [--threads N] [--max-scans N] [--laser-label L]\n"
-         "       [--quiet]\n"
+         "       [--param NAME=VALUE]... [--quiet]\n"
          "       [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
          "\n"
          "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
@@ -343,6 +363,11 @@ std::string offlineUsage(const std::string& program) {
          "  --threads N           worker threads, 0 = all cores (default 0)\n"
          "  --max-scans N         stop after N scans\n"
          "  --laser-label L       use only scans with this sensor label\n"
+         "  --param NAME=VALUE    set a SLAM parameter by its ROS name (README, Parameters),\n"
+         "                        over the preset; repeatable. Names:\n"
+         "                        " +
+         paramNameList() +
+         "\n"
          "  --quiet               no progress line and no warnings on stderr\n"
          "  --export-octomap      also write DIR/octomap/map.evidential.ot (all masses),\n"
          "                        map.bt (OcTree of BetP) and map.color.ot (RGB = masses)\n"
@@ -380,10 +405,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       o->export_octomap = true;
       continue;
     }
-    static const char* kValued[] = {"--rawlog",      "--out",           "--ground-truth",
-                                    "--preset",      "--particles",     "--seed",
-                                    "--resolution",  "--threads",       "--max-scans",
-                                    "--laser-label", "--octomap-z-min", "--octomap-z-max"};
+    static const char* kValued[] = {
+        "--rawlog",        "--out",           "--ground-truth", "--preset",    "--particles",
+        "--seed",          "--resolution",    "--threads",      "--max-scans", "--laser-label",
+        "--octomap-z-min", "--octomap-z-max", "--param"};
     bool known = false;
     for (const char* k : kValued) known = known || flag == k;
     if (!known) return bad("unknown option '" + args[i] + "'");
@@ -424,6 +449,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       uint64_t n = 0;
       if (!parseNumber(value, &n) || n == 0) return bad("--max-scans wants an integer >= 1");
       o->max_scans = n;
+    } else if (flag == "--param") {
+      const size_t eq = value.find('=');
+      if (eq == std::string::npos || eq == 0) return bad("--param wants NAME=VALUE");
+      o->parameters.emplace_back(value.substr(0, eq), value.substr(eq + 1));
     } else if (flag == "--octomap-z-min" || flag == "--octomap-z-max") {
       double z = 0;
       if (!parseNumber(value, &z) || !std::isfinite(z) || std::abs(z) > 1000.0) {
@@ -434,6 +463,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
     }
   }
   if (o->preset == "real") applyRealRobotPreset(&o->slam);
+  for (const auto& [name, text] : o->parameters) {
+    std::string why;
+    if (!setSlamParameter(name, text, &o->slam, &why)) return bad("--param " + why);
+  }
   if (o->rawlog.empty()) return bad("--rawlog is required");
   if (o->out_dir.empty()) return bad("--out is required");
   if (z_given && !o->export_octomap) {

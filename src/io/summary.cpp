@@ -24,6 +24,11 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["slam_time_s"] = s.slam_time_s;
   j["peak_rss_mb"] = s.peak_rss_mb;
   if (!s.preset.empty()) j["preset"] = s.preset;
+  if (!s.parameters.empty()) {
+    nlohmann::ordered_json params = nlohmann::ordered_json::object();
+    for (const auto& [name, value] : s.parameters) params[name] = value;
+    j["parameters"] = params;
+  }
   j["particles"] = s.particles;
   j["resolution"] = s.resolution;
   j["seed"] = s.seed;

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/laser_scan.h"
@@ -51,6 +53,67 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_EQ(c.motion.alpha_rot_rot, d.motion.alpha_rot_rot);
   EXPECT_EQ(c.update_min_distance, d.update_min_distance);
   EXPECT_EQ(c.particles, d.particles);
+}
+
+// Parameters by their ROS names: each type parses, the named field and no other changes.
+TEST(ConfigTest, SetsParametersByName) {
+  SlamConfig c;
+  std::string why;
+  ASSERT_TRUE(setSlamParameter("resample_threshold", "0.3", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.resample_threshold, 0.3);
+  ASSERT_TRUE(setSlamParameter("weight_beam_stride", "3", &c, &why)) << why;
+  EXPECT_EQ(c.sensor.weight_beam_stride, 3);
+  ASSERT_TRUE(setSlamParameter("scan_matching", "false", &c, &why)) << why;
+  EXPECT_FALSE(c.matcher.enabled);
+  ASSERT_TRUE(setSlamParameter("scan_matching", "1", &c, &why)) << why;
+  EXPECT_TRUE(c.matcher.enabled);
+  ASSERT_TRUE(setSlamParameter("matcher_heading_window", "0.2", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.matcher.heading_window, 0.2);
+  ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
+  const SlamConfig d;
+  EXPECT_EQ(c.likelihood_temperature, d.likelihood_temperature);
+  EXPECT_EQ(c.motion.alpha_rot_rot, d.motion.alpha_rot_rot);
+  EXPECT_EQ(c.sensor.hit_sigma, d.sensor.hit_sigma);
+  EXPECT_EQ(c.particles, d.particles);
+}
+
+// Unknown names and unparsable values fail with a one-line reason and change nothing.
+TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"particles", "10"},  // start-up, not a run-time parameter: --particles
+      {"resample", "0.3"},
+      {"resample_threshold", ""},
+      {"resample_threshold", "0.3x"},
+      {"resample_threshold", "nan"},
+      {"resample_threshold", "inf"},
+      {"weight_beam_stride", "2.5"},
+      {"weight_beam_stride", "99999999999"},
+      {"scan_matching", "yes"},
+  };
+  for (const auto& [name, value] : bad) {
+    SlamConfig c;
+    std::string why;
+    EXPECT_FALSE(setSlamParameter(name, value, &c, &why)) << name << "=" << value;
+    EXPECT_FALSE(why.empty());
+    EXPECT_EQ(why.find('\n'), std::string::npos);
+    EXPECT_NE(why.find(name), std::string::npos) << why;
+    EXPECT_EQ(c.resample_threshold, SlamConfig().resample_threshold);
+    EXPECT_EQ(c.sensor.weight_beam_stride, SlamConfig().sensor.weight_beam_stride);
+    EXPECT_TRUE(c.matcher.enabled);
+  }
+}
+
+// Every listed name can be set, and the list has each name once.
+TEST(ConfigTest, EveryParameterNameIsSettable) {
+  const std::vector<std::string> names = slamParameterNames();
+  EXPECT_EQ(names.size(), 22u);
+  for (size_t i = 0; i < names.size(); ++i) {
+    SlamConfig c;
+    std::string why;
+    EXPECT_TRUE(setSlamParameter(names[i], "1", &c, &why)) << names[i] << ": " << why;
+    for (size_t j = 0; j < i; ++j) EXPECT_NE(names[i], names[j]);
+  }
 }
 
 // Each invalid value makes the whole config invalid and says why.

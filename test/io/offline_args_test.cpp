@@ -94,6 +94,23 @@ TEST(OfflineArgs, Preset) {
   EXPECT_TRUE(real.slam.isValid(&error)) << error;
 }
 
+// --param NAME=VALUE sets a SLAM parameter by its ROS name, over the preset, in order.
+TEST(OfflineArgs, ParamOverridesThePreset) {
+  OfflineOptions o;
+  std::string error;
+  ASSERT_TRUE(
+      parse({"--param", "matcher_heading_window=0.2", "--preset", "real", "--rawlog", "a", "--out",
+             "b", "--param=resample_threshold=0.3", "--param", "resample_threshold=0.25"},
+            &o, &error))
+      << error;
+  EXPECT_DOUBLE_EQ(o.slam.matcher.heading_window, 0.2);
+  EXPECT_DOUBLE_EQ(o.slam.resample_threshold, 0.25);
+  ASSERT_EQ(o.parameters.size(), 3u);
+  EXPECT_EQ(o.parameters[1].first, "resample_threshold");
+  EXPECT_EQ(o.parameters[1].second, "0.3");
+  EXPECT_NE(offlineUsage("prog").find("likelihood_temperature"), std::string::npos);
+}
+
 TEST(OfflineArgs, BadUsageHasOneLineErrors) {
   const std::vector<std::vector<std::string>> bad = {
       {},
@@ -117,6 +134,11 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
       {"--rawlog", "a", "--out", "b", "--export-octomap", "--octomap-z-min", "1", "--octomap-z-max",
        "0.5"},
       {"--rawlog", "a", "--out", "b", "--export-octomap", "--octomap-z-min"},
+      {"--rawlog", "a", "--out", "b", "--param", "resample_threshold"},
+      {"--rawlog", "a", "--out", "b", "--param", "=0.3"},
+      {"--rawlog", "a", "--out", "b", "--param", "no_such_parameter=1"},
+      {"--rawlog", "a", "--out", "b", "--param", "likelihood_temperature=warm"},
+      {"--rawlog", "a", "--out", "b", "--param"},
   };
   for (const auto& args : bad) {
     OfflineOptions o;

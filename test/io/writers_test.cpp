@@ -380,6 +380,16 @@ TEST(Summary, JsonHasTheDocumentedKeys) {
   EXPECT_EQ(j["truncated"], true);
   EXPECT_EQ(j["warnings"].size(), 2u);
   EXPECT_DOUBLE_EQ(j["ate_rmse_m"].get<double>(), 0.25);
+  EXPECT_FALSE(j.contains("parameters"));
+
+  // --param overrides are recorded as given, in order.
+  s.parameters = {{"resample_threshold", "0.3"}, {"scan_matching", "false"}};
+  ASSERT_TRUE(writeSummaryJson(path, s, &error)) << error;
+  const auto with = nlohmann::ordered_json::parse(test::readText(path));
+  ASSERT_TRUE(with.contains("parameters"));
+  EXPECT_EQ(with["parameters"].size(), 2u);
+  EXPECT_EQ(with["parameters"]["resample_threshold"], "0.3");
+  EXPECT_EQ(with["parameters"].begin().key(), "resample_threshold");
 
   // Without ground truth there are no ATE keys, and without --export-octomap no "octomap".
   RunSummary plain;

@@ -2,6 +2,9 @@
 // parameters survive the round trip through the generated config struct.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <string>
+
 #include <dynamic_reconfigure/Config.h>
 
 #include "evidential_slam/ros/params.h"
@@ -51,6 +54,57 @@ TEST(Params, ReconfigureChangesReachTheCoreConfig) {
   EXPECT_EQ(p.slam.sensor.weight_beam_stride, 3);
   EXPECT_DOUBLE_EQ(p.map_update_interval, 1.5);
   EXPECT_DOUBLE_EQ(toReconfigure(p).hit_sigma, 0.07);
+}
+
+// The offline runner's --param names (core: setSlamParameter) are dynamic_reconfigure names, and
+// each sets the same field as the cfg field of that name.
+TEST(Params, CoreParameterNamesAreTheReconfigureNames) {
+  const dynamic_reconfigure::Config defaults = asMessage(toReconfigure(NodeParams()));
+  for (const std::string& name : slamParameterNames()) {
+    dynamic_reconfigure::Config changed = defaults;
+    std::string text;
+    bool found = false;
+    for (auto& d : changed.doubles) {
+      if (d.name != name) continue;
+      d.value += 0.125;  // exact in binary, so the text round trip is exact
+      char buffer[32];
+      std::snprintf(buffer, sizeof buffer, "%.17g", d.value);
+      text = buffer;
+      found = true;
+    }
+    for (auto& i : changed.ints) {
+      if (i.name != name) continue;
+      i.value += 1;
+      text = std::to_string(i.value);
+      found = true;
+    }
+    for (auto& b : changed.bools) {
+      if (b.name != name) continue;
+      b.value = !b.value;
+      text = b.value ? "true" : "false";
+      found = true;
+    }
+    ASSERT_TRUE(found) << name << " is not in cfg/EvidentialSlam.cfg";
+    EvidentialSlamConfig cfg = EvidentialSlamConfig::__getDefault__();
+    ASSERT_TRUE(cfg.__fromMessage__(changed)) << name;
+    NodeParams via_reconfigure;
+    applyReconfigure(cfg, &via_reconfigure);
+    NodeParams via_core;
+    std::string why;
+    ASSERT_TRUE(setSlamParameter(name, text, &via_core.slam, &why)) << why;
+    const dynamic_reconfigure::Config a = asMessage(toReconfigure(via_reconfigure));
+    const dynamic_reconfigure::Config b = asMessage(toReconfigure(via_core));
+    ASSERT_EQ(a.doubles.size(), b.doubles.size());
+    for (size_t i = 0; i < a.doubles.size(); ++i) {
+      EXPECT_EQ(a.doubles[i].value, b.doubles[i].value) << name << " vs " << a.doubles[i].name;
+    }
+    for (size_t i = 0; i < a.ints.size(); ++i) {
+      EXPECT_EQ(a.ints[i].value, b.ints[i].value) << name << " vs " << a.ints[i].name;
+    }
+    for (size_t i = 0; i < a.bools.size(); ++i) {
+      EXPECT_EQ(a.bools[i].value, b.bools[i].value) << name << " vs " << a.bools[i].name;
+    }
+  }
 }
 
 TEST(Params, Validation) {

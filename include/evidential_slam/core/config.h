@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace evidential_slam {
 
@@ -104,5 +105,15 @@ struct SlamConfig {
 // between processed scans, translation reported without its sign) and which costs time on logs
 // that do not.
 void applyRealRobotPreset(SlamConfig* config);
+
+// The run-time SLAM parameters by their ROS names (cfg/EvidentialSlam.cfg), for front ends
+// without a parameter server: the offline runner's --param NAME=VALUE sets what the node's
+// rosparam / dynamic_reconfigure field of the same name sets.
+std::vector<std::string> slamParameterNames();
+// Sets one of them from its text (a number; true/false or 1/0 for a switch). False, with a
+// one-line reason, for an unknown name or a value that does not parse or is out of range for its
+// type; the ranges between parameters are SlamConfig::isValid's to check.
+bool setSlamParameter(const std::string& name, const std::string& value, SlamConfig* config,
+                      std::string* why);
 
 }  // namespace evidential_slam

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "evidential_slam/core/config.h"
@@ -34,9 +35,11 @@ struct OfflineOptions {
   SlamConfig slam;           // core defaults; --particles/--seed/--resolution/--threads override
   ConflictAlarmConfig conflict_alarm;  // per-scan alarm written to conflict.csv
   std::string preset = "sim";  // --preset: "sim" (the defaults) or "real" (applyRealRobotPreset)
-  uint64_t max_scans = 0;      // 0 = all
-  bool quiet = false;          // no progress line, no per-scan warnings
-  double ate_max_dt = 0.05;    // s, timestamp association window for the ATE
+  // --param NAME=VALUE, in the order given, applied over the preset (setSlamParameter).
+  std::vector<std::pair<std::string, std::string>> parameters;
+  uint64_t max_scans = 0;    // 0 = all
+  bool quiet = false;        // no progress line, no per-scan warnings
+  double ate_max_dt = 0.05;  // s, timestamp association window for the ATE
   // --export-octomap: <out>/octomap/map.{evidential.ot,bt,color.ot} (octomap_export.h), a slab
   // of voxel layers from the one containing octomap_z_min to the one containing octomap_z_max.
   bool export_octomap = false;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace evidential_slam {
@@ -42,7 +43,8 @@ struct RunSummary {
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;  // inside processScan only
   double peak_rss_mb = 0.0;
-  std::string preset;  // offline runner --preset
+  std::string preset;                                           // offline runner --preset
+  std::vector<std::pair<std::string, std::string>> parameters;  // --param NAME=VALUE, as given
   int particles = 0;
   double resolution = 0.0;
   uint64_t seed = 0;
