@@ -146,6 +146,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("update_min_angle", c.update_min_angle);
   visit("likelihood_temperature", c.likelihood_temperature);
   visit("resample_threshold", c.resample_threshold);
+  visit("along_track_prior", c.along_track_prior);
   visit("scan_matching", c.matcher.enabled);
   visit("matcher_search_radius", c.matcher.search_radius);
   visit("matcher_heading_window", c.matcher.heading_window);

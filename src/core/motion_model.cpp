@@ -1,5 +1,6 @@
 #include "evidential_slam/core/motion_model.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace evidential_slam {
@@ -28,21 +29,50 @@ double Rng::gaussian() {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
 }
 
-Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionModelConfig& c,
-                   Rng* rng) {
+namespace {
+
+// The increment as rotate-translate-rotate; driving backwards is a negative translation, not a
+// half turn.
+struct OdometrySplit {
+  double rot1, trans, rot2;
+};
+OdometrySplit split(const Pose2& increment) {
   double trans = std::hypot(increment.x, increment.y);
   double rot1 = trans > 1e-3 ? std::atan2(increment.y, increment.x) : 0.0;
-  // Driving backwards: model it as a negative translation, not a half turn.
   if (std::abs(rot1) > M_PI_2) {
     rot1 = normalizeAngle(rot1 + M_PI);
     trans = -trans;
   }
-  const double rot2 = normalizeAngle(increment.theta - rot1);
+  return {rot1, trans, normalizeAngle(increment.theta - rot1)};
+}
+
+double translationSigma(const OdometrySplit& s, const MotionModelConfig& c) {
+  return std::sqrt(c.alpha_trans_trans * s.trans * s.trans +
+                   c.alpha_trans_rot * (s.rot1 * s.rot1 + s.rot2 * s.rot2) +
+                   c.min_sigma_xy * c.min_sigma_xy);
+}
+
+}  // namespace
+
+double alongTrackLogPrior(const Pose2& previous, const Pose2& reached, const Pose2& increment,
+                          const MotionModelConfig& config, double floor_nats) {
+  const double length = std::hypot(increment.x, increment.y);
+  if (length <= 1e-3) return 0.0;
+  const Pose2 moved = previous.between(reached);
+  const double along =
+      ((moved.x - increment.x) * increment.x + (moved.y - increment.y) * increment.y) / length;
+  const double sigma = translationSigma(split(increment), config);
+  return -std::min(0.5 * along * along / (sigma * sigma), floor_nats);
+}
+
+Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionModelConfig& c,
+                   Rng* rng) {
+  const OdometrySplit s = split(increment);
+  const double rot1 = s.rot1, trans = s.trans, rot2 = s.rot2;
   const double t2 = trans * trans, r1 = rot1 * rot1, r2 = rot2 * rot2;
   const double sd_rot1 = std::sqrt(c.alpha_rot_rot * r1 + c.alpha_rot_trans * t2 +
                                    c.min_sigma_theta * c.min_sigma_theta);
-  const double sd_trans = std::sqrt(c.alpha_trans_trans * t2 + c.alpha_trans_rot * (r1 + r2) +
-                                    c.min_sigma_xy * c.min_sigma_xy);
+  const double sd_trans = translationSigma(s, c);
   const double sd_rot2 = std::sqrt(c.alpha_rot_rot * r2 + c.alpha_rot_trans * t2 +
                                    c.min_sigma_theta * c.min_sigma_theta);
   const double rot1_hat = rot1 + sd_rot1 * rng->gaussian();

@@ -16,7 +16,8 @@ namespace {
 // translation, translation reversed) lie within ICP's capture of the prediction: not tried.
 constexpr double kAlternativeStartsFrom = 0.15;
 // -ln of the prior probability that the odometry's translation is missing or reversed (5 %;
-// Freiburg 079 reverses unsigned in 3.5 % of its scans).
+// Freiburg 079 reverses unsigned in 3.5 % of its scans). Also the floor of the weights'
+// along-track motion prior (alongTrackLogPrior).
 constexpr double kTranslationFailureNats = 3.0;
 // The wide-basin match weighs candidates on every n-th beam (half the cost, same ranking).
 constexpr int kWideMatchBeamStride = 2;
@@ -140,7 +141,7 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
 }
 
 LaserScan ParticleFilter::hitBeamSubset(const LaserScan& scan, const SensorModelConfig& sensor,
-                                       int stride) {
+                                        int stride) {
   LaserScan out;
   out.stamp = scan.stamp;
   out.sensor_pose = scan.sensor_pose;
@@ -329,6 +330,14 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     conflict_stats[g] = evidence.conflict;
   });
 
+  // 4b. Optionally the weights' motion prior, along the direction of travel only: a corridor
+  //     leaves the scan likelihood flat along it (config.h, along_track_prior).
+  std::vector<double> motion_log_prior(leaders.size(), 0.0);
+  for (size_t g = 0; config_.along_track_prior && g < leaders.size(); ++g) {
+    motion_log_prior[g] = alongTrackLogPrior(particles_[leaders[g]].pose, proposed[leaders[g]],
+                                             increment, config_.motion, kTranslationFailureNats);
+  }
+
   // 5. Members take their leader's pose, map (shared tiles) and path node.
   std::vector<std::shared_ptr<const PathNode>> nodes(leaders.size());
   std::vector<uint64_t> ids(leaders.size());
@@ -347,8 +356,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     p.pose = proposed[leaders[g]];
     p.map_id = ids[g];
     p.path = nodes[g];
-    p.log_weight += exponent * log_pl[g];
-    p.cumulative_log_weight += exponent * log_pl[g];
+    const double log_weight = exponent * log_pl[g] + motion_log_prior[g];
+    p.log_weight += log_weight;
+    p.cumulative_log_weight += log_weight;
   }
 
   FilterStepInfo info;

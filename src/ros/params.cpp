@@ -31,6 +31,7 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("update_min_angle", p.slam.update_min_angle, c.update_min_angle);
   visit("likelihood_temperature", p.slam.likelihood_temperature, c.likelihood_temperature);
   visit("resample_threshold", p.slam.resample_threshold, c.resample_threshold);
+  visit("along_track_prior", p.slam.along_track_prior, c.along_track_prior);
   visit("scan_matching", p.slam.matcher.enabled, c.scan_matching);
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
   visit("matcher_heading_window", p.slam.matcher.heading_window, c.matcher_heading_window);

@@ -30,6 +30,7 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_NEAR(c.update_min_angle, 0.17453292519943295, 1e-12);  // 10° = π/18
   EXPECT_DOUBLE_EQ(c.likelihood_temperature, 20.0);
   EXPECT_DOUBLE_EQ(c.resample_threshold, 0.5);
+  EXPECT_FALSE(c.along_track_prior);
   EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
   EXPECT_DOUBLE_EQ(c.sensor.prior_occupied, 0.4);
   EXPECT_DOUBLE_EQ(c.sensor.hit_sigma, 0.025);
@@ -107,7 +108,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 22u);
+  EXPECT_EQ(names.size(), 23u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;

@@ -140,5 +140,27 @@ TEST(MotionModelTest, NoiseMomentsForPureRotation) {
   EXPECT_NEAR(sr2 / n, 0.04937, 2.5e-3);
 }
 
+// The weights' along-track prior: -½ (e/σ_trans)² for the deviation e along the odometry's
+// direction of travel, floored. kAlphas, 1 m straight: σ² = α_tt · 1² + 0.005² = 0.050025.
+TEST(MotionModelTest, AlongTrackLogPrior) {
+  const MotionModelConfig c = kAlphas();
+  const double var = 0.05 + 0.005 * 0.005;
+  const Pose2 start(2.0, 1.0, kPi / 2);  // facing +y: "along" is +y in the world
+  const Pose2 ahead(1.0, 0.0, 0.0);
+  // 0.1 m further than the odometry said, 0.3 m off to the side, turned: only the 0.1 counts.
+  EXPECT_NEAR(alongTrackLogPrior(start, Pose2(1.7, 2.1, 1.0), ahead, c, 3.0), -0.5 * 0.01 / var,
+              1e-12);
+  EXPECT_NEAR(alongTrackLogPrior(start, start.compose(ahead), ahead, c, 3.0), 0.0, 1e-12);
+  // 1 m short (no translation at all): -½ · 1 / 0.050025 = -9.99, floored at -3.
+  EXPECT_DOUBLE_EQ(alongTrackLogPrior(start, start, ahead, c, 3.0), -3.0);
+  EXPECT_NEAR(alongTrackLogPrior(start, start, ahead, c, 100.0), -0.5 / var, 1e-9);
+  // Backwards 1 m, reached 1.1 m back: 0.1 m along the reversed direction. The split makes this a
+  // translation of -1 with no rotation, so σ is the same.
+  EXPECT_NEAR(alongTrackLogPrior(Pose2(), Pose2(-1.1, 0.0, 0.0), Pose2(-1.0, 0.0, 0.0), c, 3.0),
+              -0.5 * 0.01 / var, 1e-12);
+  // A turn on the spot has no direction of travel: nothing to score.
+  EXPECT_EQ(alongTrackLogPrior(Pose2(), Pose2(0.5, 0.0, 0.3), Pose2(0.0, 0.0, 0.3), c, 3.0), 0.0);
+}
+
 }  // namespace
 }  // namespace evidential_slam

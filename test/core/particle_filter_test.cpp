@@ -11,6 +11,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "evidential_slam/core/motion_model.h"
 #include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/sensor_model.h"
 #include "test_support.h"
@@ -173,6 +174,35 @@ TEST(ParticleFilterTest, UpdateInvariants) {
     EXPECT_NEAR(max_log, 0.0, 1e-12);
     EXPECT_DOUBLE_EQ(filter.best().cumulative_log_weight, max_cum);
   }
+}
+
+// along_track_prior adds to each particle's weight the log prior of how far it went along the
+// odometry's direction: with the same seed the proposals are the same, so the weights differ by
+// exactly that (no resampling, so the particles stay in step).
+TEST(ParticleFilterTest, AlongTrackPriorEntersTheWeights) {
+  SlamConfig off = filterConfig(8);
+  off.resample_threshold = 0.0;
+  SlamConfig on = off;
+  on.along_track_prior = true;
+  ParticleFilter a(off), b(on);
+  const Pose2 start(-1.0, 0.2, 0.0);
+  a.initialize(start, roomScan(start), 0);
+  b.initialize(start, roomScan(start), 0);
+  const Pose2 increment(0.5, 0.0, 0.0);
+  const Pose2 truth = start.compose(Pose2(0.4, 0.0, 0.0));  // the odometry says 25 % too much
+  a.update(increment, roomScan(truth), 1);
+  b.update(increment, roomScan(truth), 1);
+  bool scored = false;
+  for (size_t i = 0; i < 8; ++i) {
+    const Particle& pa = a.particles()[i];
+    const Particle& pb = b.particles()[i];
+    ASSERT_EQ(pa.pose.x, pb.pose.x);
+    ASSERT_EQ(pa.pose.y, pb.pose.y);
+    const double prior = alongTrackLogPrior(start, pa.pose, increment, off.motion, 3.0);
+    EXPECT_NEAR(pb.cumulative_log_weight - pa.cumulative_log_weight, prior, 1e-9) << i;
+    scored = scored || prior < -1e-3;
+  }
+  EXPECT_TRUE(scored);
 }
 
 // Same seed and thread count: identical results (config.h promises determinism).

@@ -27,6 +27,14 @@ class Rng {
   uint64_t state_;
 };
 
+// Log prior (up to a constant) of how far along the odometry's direction of travel a particle
+// went from `previous` to `reached`: the motion model's translation Gaussian, floored at
+// -floor_nats, where the odometry counts as failed (a missed or reversed translation). Across-track
+// and heading deviations are not scored: the scan constrains those, and real odometry's heading
+// is biased. 0 for an increment without translation.
+double alongTrackLogPrior(const Pose2& previous, const Pose2& reached, const Pose2& increment,
+                          const MotionModelConfig& config, double floor_nats);
+
 // Samples x_t ~ p(x_t | x_{t-1}, u) for the odometry increment u (in the previous robot frame).
 Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionModelConfig& config,
                    Rng* rng);
