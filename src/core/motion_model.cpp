@@ -68,16 +68,15 @@ double alongTrackLogPrior(const Pose2& previous, const Pose2& reached, const Pos
 Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionModelConfig& c,
                    Rng* rng) {
   const OdometrySplit s = split(increment);
-  const double rot1 = s.rot1, trans = s.trans, rot2 = s.rot2;
-  const double t2 = trans * trans, r1 = rot1 * rot1, r2 = rot2 * rot2;
+  const double t2 = s.trans * s.trans, r1 = s.rot1 * s.rot1, r2 = s.rot2 * s.rot2;
   const double sd_rot1 = std::sqrt(c.alpha_rot_rot * r1 + c.alpha_rot_trans * t2 +
                                    c.min_sigma_theta * c.min_sigma_theta);
   const double sd_trans = translationSigma(s, c);
   const double sd_rot2 = std::sqrt(c.alpha_rot_rot * r2 + c.alpha_rot_trans * t2 +
                                    c.min_sigma_theta * c.min_sigma_theta);
-  const double rot1_hat = rot1 + sd_rot1 * rng->gaussian();
-  const double trans_hat = trans + sd_trans * rng->gaussian();
-  const double rot2_hat = rot2 + sd_rot2 * rng->gaussian();
+  const double rot1_hat = s.rot1 + sd_rot1 * rng->gaussian();
+  const double trans_hat = s.trans + sd_trans * rng->gaussian();
+  const double rot2_hat = s.rot2 + sd_rot2 * rng->gaussian();
   const Pose2 noisy(trans_hat * std::cos(rot1_hat), trans_hat * std::sin(rot1_hat),
                     rot1_hat + rot2_hat);
   return previous.compose(noisy);

@@ -89,8 +89,8 @@ struct SlamConfig {
   double resample_threshold = 0.5;  // resample when N_eff < threshold * K
   // The weights also score the distance each particle went along the odometry's direction of
   // travel (alongTrackLogPrior, floored at the 3 nats of a missed or reversed translation), which
-  // a corridor leaves unconstrained. Off: on the real logs (seeds 1-5) it kept intel and
-  // intel-synth on target where the default lost 4 of 10 runs, but put aces-synth at ~0.37 m.
+  // a corridor leaves unconstrained. Off: on the real logs (seeds 1-5) intel and intel-synth
+  // missed their target in 1 of 10 runs with it (4 without), aces and aces-synth in 5 (3).
   bool along_track_prior = false;
   // Particles that share a map and whose refined poses differ by less than this are one hypothesis:
   // they take the same pose and the scan is integrated once for all of them (0 disables).
