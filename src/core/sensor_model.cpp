@@ -97,10 +97,19 @@ size_t ScanAccumulator::touched() const {
 double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added) const {
   double added = 0.0, mass = 0.0;
   const Block* tile_block = nullptr;
+  const EvidentialGridMap::Tile* shared = nullptr;
   EvidentialGridMap::Tile* tile = nullptr;
   forEachTouched([&](const Block& block, size_t k) {
     if (&block != tile_block) {  // the blocks' cells come together: one tile lookup per block
       tile_block = &block;
+      shared = map->tile(block.tile_x, block.tile_y);
+      tile = nullptr;
+    }
+    if (tile == nullptr) {
+      // A tile is taken for writing (cloned if shared) only at its first cell that the update
+      // changes: space observed free many times stays as it is under clearing beams, and a tile
+      // holding only such cells is neither copied nor written.
+      if (shared != nullptr && updateLeavesCell(shared->cells[k], block.mass[k])) return;
       tile = &map->mutableTile(block.tile_x, block.tile_y);
     }
     float lambda_before = 0.0f;

@@ -494,6 +494,43 @@ TEST(IntegrateScanTest, AccumulatorAcrossTilesAndNegativeCells) {
   EXPECT_EQ(scratch.touched(), 0u);
 }
 
+// A tile is cloned for a particle only when the scan changes one of its cells: clearing beams over
+// cells already certainly free (m̃(e) = 1) leave a shared tile shared, and the first beam that
+// changes a cell of it (an obstacle, or space not yet certain) gets the particle its own copy.
+TEST(IntegrateScanTest, UnchangedTilesStayShared) {
+  EvidentialGridMap map(kRes);
+  for (int x = 0; x < 64; ++x) map.mutableCell(x, 3) = makeCell(0.0f, 1.0f);  // tiles (0,0), (1,0)
+  map.mutableCell(40, 3) = makeCell(0.0f, 0.5f);                                // tile (1, 0)
+  EvidentialGridMap particle = map;
+  const auto sharedTiles = [&]() {
+    return static_cast<int>(map.tile(0, 0) == particle.tile(0, 0)) +
+           static_cast<int>(map.tile(1, 0) == particle.tile(1, 0));
+  };
+  ASSERT_EQ(sharedTiles(), 2);
+  ScanAccumulator scratch;
+  const ScanMass clear{0.0f, 0.8f};
+  scratch.reset(CellIndex{0, 0}, 100);
+  for (int x = 0; x < 32; ++x) scratch.add(x, 3, clear);  // certainly free cells only
+  EXPECT_EQ(scratch.applyTo(&particle), 0.0);
+  EXPECT_EQ(sharedTiles(), 2);
+  EXPECT_EQ(particle.cell(5, 3), makeCell(0.0f, 1.0f));
+
+  scratch.reset(CellIndex{0, 0}, 100);
+  for (int x = 32; x < 64; ++x) scratch.add(x, 3, clear);  // cell (40, 3) is only half free
+  scratch.applyTo(&particle);
+  EXPECT_EQ(map.tile(0, 0), particle.tile(0, 0));
+  EXPECT_NE(map.tile(1, 0), particle.tile(1, 0));
+  EXPECT_NEAR(particle.cell(40, 3).free(), 0.9, 1e-6);  // 0.5 + 0.5 * 0.8
+  EXPECT_EQ(particle.cell(39, 3), makeCell(0.0f, 1.0f));
+  EXPECT_NEAR(map.cell(40, 3).free(), 0.5, 1e-6);  // the other particle's map is untouched
+
+  scratch.reset(CellIndex{0, 0}, 100);
+  scratch.add(5, 3, ScanMass{0.1f, 0.7f});  // a little occupied mass: a certainly free cell changes
+  EXPECT_GT(scratch.applyTo(&particle), 0.0);
+  EXPECT_NE(map.tile(0, 0), particle.tile(0, 0));
+  EXPECT_EQ(map.cell(5, 3), makeCell(0.0f, 1.0f));
+}
+
 // The map update keeps the tiles' occupied rows (the scan matcher's targets) true: rows built
 // before a scan are updated cell by cell as the scan is applied, in place and in the clones a
 // particle sharing the tiles gets; the other particle's rows stay those of its cells.

@@ -123,8 +123,14 @@ constexpr float kMaxUpdateConflict = 1.0f - 1.0f / (1 << 24);
 // Conjunctive update of a stored cell by a scan mass (algorithm.md §2.3); exact up to the storage's
 // rounding, never NaN. Returns the conflict K of this update (lambda grew by -ln(1 - K)) and, when
 // K > 0 and asked, lambda before the update.
+// True when updating `cell` by `scan` leaves it as it is: a scan mass without m(o) on a cell that is
+// certainly free (m̃(e) = 1, where space observed free many times ends up).
+inline bool updateLeavesCell(const Cell& cell, const ScanMass& scan) {
+  return scan.occupied == 0.0f && cell.isCertainlyFree();
+}
+
 inline float updateCell(Cell& cell, const ScanMass& scan, float* lambda_before = nullptr) {
-  if (cell.isCertainlyFree() && scan.occupied == 0.0f) return 0.0f;  // a fixed point: no change
+  if (updateLeavesCell(cell, scan)) return 0.0f;  // a fixed point: no change
   const float s_u = scan.unknown();
   const float c_o = cell.occupied(), c_e = cell.free(), c_u = cell.unknown();
   const float k = c_o * scan.free + c_e * scan.occupied;
