@@ -1,6 +1,7 @@
 // The offline rawlog runner. See offline_runner.h.
 #include "evidential_slam/io/offline_runner.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <charconv>
@@ -27,6 +28,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Returns the heap's free pages to the system (glibc keeps freed memory mapped otherwise).
+void releaseFreeHeapMemory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
 // Rejected scans are reported one by one only this often; the rest are counted.
 constexpr uint64_t kRejectionsShown = 3;
 
@@ -50,7 +58,8 @@ class Run {
     if (progress_) progress_->clearLine();
     std::fprintf(err_, "warning: %s\n", message.c_str());
   }
-  bool writeOutputs(const SlamEngine& engine, std::string* error);
+  bool writeOutputs(const std::vector<StampedPose>& best_path, const EvidentialGridMap& best_map,
+                    std::string* error);
 
   const OfflineOptions& opt_;
   std::FILE* out_;
@@ -132,7 +141,8 @@ int Run::execute() {
   if (opt_.max_scans > 0 && opt_.max_scans < total) total = opt_.max_scans;
   if (!opt_.quiet) progress_ = std::make_unique<ProgressBar>(err_, total, tty_);
 
-  SlamEngine engine(opt_.slam);
+  auto engine_owner = std::make_unique<SlamEngine>(opt_.slam);
+  SlamEngine& engine = *engine_owner;
   ConflictAlarm alarm(opt_.conflict_alarm);
   RawlogScan item;
   RawlogReader::Status status = RawlogReader::Status::kEnd;
@@ -178,7 +188,7 @@ int Run::execute() {
   for (const std::string& w : reader.warnings()) warn(w);
   if (given == 0) return fail(kExitBadInput, "no scan could be read from '" + opt_.rawlog + "'");
 
-  const SlamStats& stats = engine.stats();
+  const SlamStats stats = engine.stats();
   if (stats.scans_rejected > 0) {
     warn(std::to_string(stats.scans_rejected) + " of " + std::to_string(given) +
          " scans were rejected by the SLAM core");
@@ -200,9 +210,17 @@ int Run::execute() {
          " rays with NaN, infinite or negative ranges were skipped");
   }
 
+  // The outputs need the best particle only. Its path and map (a copy sharing its tiles) are kept
+  // and the filter is released before the layers' rasters are allocated, with the freed memory
+  // handed back to the system, so writing them does not add to the run's peak memory.
+  const std::vector<StampedPose> best_path = engine.bestTrajectory();
+  const EvidentialGridMap best_map = engine.bestMap();
+  engine_owner.reset();
+  releaseFreeHeapMemory();
+
   if (!truth_.empty()) {
     AteResult ate;
-    if (computeAte(engine.bestTrajectory(), truth_, opt_.ate_max_dt, &ate, &why)) {
+    if (computeAte(best_path, truth_, opt_.ate_max_dt, &ate, &why)) {
       summary_.ate = AteSummary{ate.rmse, ate.max_error, ate.matched};
     } else {
       warn("no trajectory error: " + why);
@@ -212,7 +230,7 @@ int Run::execute() {
     }
   }
 
-  if (!writeOutputs(engine, &why)) return fail(kExitBadInput, why);
+  if (!writeOutputs(best_path, best_map, &why)) return fail(kExitBadInput, why);
 
   summary_.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -253,9 +271,10 @@ int Run::execute() {
   return kExitOk;
 }
 
-bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
+bool Run::writeOutputs(const std::vector<StampedPose>& best_path, const EvidentialGridMap& best_map,
+                       std::string* error) {
   const std::string tum = (out_dir_ / "trajectory.tum").string();
-  if (!writeTumTrajectory(tum, engine.bestTrajectory(), error)) return false;
+  if (!writeTumTrajectory(tum, best_path, error)) return false;
   summary_.outputs.push_back("trajectory.tum");
 
   const std::string csv = (out_dir_ / "conflict.csv").string();
@@ -281,7 +300,7 @@ bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
   }
   summary_.outputs.push_back("conflict.csv");
 
-  const LayerRaster raster = extractLayers(engine.bestMap());
+  const LayerRaster raster = extractLayers(best_map);
   LayerWriteResult written;
   if (!writeLayers(raster, layers_dir_.string(), LayerWriterConfig(), &written, error)) {
     return false;
@@ -295,7 +314,7 @@ bool Run::writeOutputs(const SlamEngine& engine, std::string* error) {
 
   if (opt_.export_octomap) {
     MapExportReport report;
-    if (!octomap_exporter_(engine.bestMap(), opt_, &report, error)) return false;
+    if (!octomap_exporter_(best_map, opt_, &report, error)) return false;
     MapExportSummary octomap;
     for (const std::string& f : report.files) {
       const std::string rel = fs::path(f).lexically_relative(out_dir_).string();
