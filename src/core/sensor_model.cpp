@@ -317,17 +317,6 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
   return applyScan(scratch, map, conflict);
 }
 
-void BeamModel::addEvidence(ScanAccumulator* scratch, int cx, int cy, float distance, double range,
-                            bool hit) const {
-  if (!hit) {
-    scratch->add(cx, cy, clearMass());
-    return;
-  }
-  const ScanMass m = inverseMass(distance - range);
-  if (m.occupied == 0.0f && m.free == 0.0f) return;  // vacuous: nothing to add
-  scratch->add(cx, cy, m);
-}
-
 double BeamModel::applyScan(ScanAccumulator* scratch, EvidentialGridMap* map,
                             ScanConflict* conflict) const {
   if (conflict == nullptr) return scratch->applyTo(map) / kLn2;

@@ -391,6 +391,31 @@ TEST(CellTest, StorageRoundsIntoTheSimplex) {
   EXPECT_EQ(sizeof(Cell), 8u);
 }
 
+// Storing rounds a mass to the nearest step, half-way up (as round(m * 2^23 + 1/2) in exact
+// arithmetic), and reading gives the step times 2^-23, whichever float is stored: checked against
+// double arithmetic (exact here) on floats around every power of two from 2^-24 to 1, where float
+// rounding of m * 2^23 + 1/2 could differ, and on 100 000 spread over [0, 1].
+TEST(CellTest, StorageRoundsLikeExactArithmetic) {
+  constexpr double kSteps = 8388608.0;
+  const auto expectStored = [&](float m) {
+    const double steps = std::floor(std::min(static_cast<double>(m), 1.0) * kSteps + 0.5);
+    const Cell c = Cell::fromStored(m, 0.0f, 0.0f);
+    ASSERT_EQ(static_cast<double>(c.occupied()), steps / kSteps) << m;
+  };
+  for (int e = -24; e <= 0; ++e) {
+    const float p = std::ldexp(1.0f, e);
+    float below = p, above = p;
+    for (int i = 0; i < 64; ++i) {
+      expectStored(below);
+      expectStored(above);
+      below = std::nextafter(below, 0.0f);
+      above = std::nextafter(above, 2.0f);
+    }
+    expectStored(0.5f * p + std::ldexp(1.0f, -25));  // odd multiples of half a step
+  }
+  for (int i = 0; i <= 100000; ++i) expectStored(static_cast<float>(i) / 100000.0f + 1e-9f);
+}
+
 // A certainly free cell (m̃(e) = 1) is a fixed point of every scan mass without m(o): updateCell
 // skips it with the same result the formulas give; a hit still conflicts with it.
 TEST(CellTest, CertainlyFreeCellIsAFixedPointOfMisses) {

@@ -41,11 +41,14 @@ struct ScanMass {
 // Dempster's rule for two conflict-free scan masses (used to fuse beams within one scan).
 inline ScanMass fuseDempster(const ScanMass& a, const ScanMass& b) {
   const float a_u = a.unknown(), b_u = b.unknown();
-  const float conflict = a.occupied * b.free + a.free * b.occupied;
-  const float norm = std::max(1.0f - conflict, 1e-12f);
   ScanMass r;
-  r.occupied = (a.occupied * b.occupied + a.occupied * b_u + a_u * b.occupied) / norm;
-  r.free = (a.free * b.free + a.free * b_u + a_u * b.free) / norm;
+  r.occupied = a.occupied * b.occupied + a.occupied * b_u + a_u * b.occupied;
+  r.free = a.free * b.free + a.free * b_u + a_u * b.free;
+  const float conflict = a.occupied * b.free + a.free * b.occupied;
+  if (conflict == 0.0f) return r;  // most cells: clearing beams only (dividing by 1 is exact)
+  const float norm = std::max(1.0f - conflict, 1e-12f);
+  r.occupied /= norm;
+  r.free /= norm;
   return r;
 }
 
@@ -98,12 +101,15 @@ class Cell {
   }
 
  private:
+  // Exact in float arithmetic (no double round trip): steps < 2^24 is a float, scaling by 2^±23
+  // is exact, and so is the fraction x - floor(x); rounds half-way up.
   static float toMass(uint32_t steps) {
-    return static_cast<float>(static_cast<double>(steps) * (1.0 / kMassSteps));
+    return static_cast<float>(steps) * (1.0f / static_cast<float>(kMassSteps));
   }
   static uint32_t toSteps(float mass) {
-    return static_cast<uint32_t>(
-        static_cast<double>(std::min(std::max(mass, 0.0f), 1.0f)) * kMassSteps + 0.5);
+    const float x = std::min(std::max(mass, 0.0f), 1.0f) * static_cast<float>(kMassSteps);
+    const uint32_t whole = static_cast<uint32_t>(x);
+    return whole + static_cast<uint32_t>(x - static_cast<float>(whole) >= 0.5f);
   }
   uint32_t occupiedSteps() const { return (uint32_t{occupied_hi_} << 8) | occupied_lo_; }
   uint32_t freeSteps() const { return (uint32_t{free_hi_} << 8) | free_lo_; }
@@ -134,9 +140,14 @@ inline float updateCell(Cell& cell, const ScanMass& scan, float* lambda_before =
   const float s_u = scan.unknown();
   const float c_o = cell.occupied(), c_e = cell.free(), c_u = cell.unknown();
   const float k = c_o * scan.free + c_e * scan.occupied;
+  const float occupied = c_o * (scan.occupied + s_u) + c_u * scan.occupied;
+  const float free = c_e * (scan.free + s_u) + c_u * scan.free;
+  if (k == 0.0f) {  // no conflict (dividing by 1 is exact)
+    cell.setMasses(occupied, free);
+    return 0.0f;
+  }
   const float norm = std::max(1.0f - k, 1e-9f);
-  cell.setMasses((c_o * (scan.occupied + s_u) + c_u * scan.occupied) / norm,
-                 (c_e * (scan.free + s_u) + c_u * scan.free) / norm);
+  cell.setMasses(occupied / norm, free / norm);
   if (k > 0.0f) {
     const float before = cell.lambda();
     if (lambda_before != nullptr) *lambda_before = before;

@@ -203,8 +203,17 @@ class BeamModel {
   void traverse(const Eigen::Vector2d& origin, double angle, double length, Fn&& fn) const;
   // The scan's evidence for one cell of a ray: clear mass, or the inverse model at `distance` from
   // the sensor for a hit at `range`.
+  // Inlined into the traversals (a call per traversed cell was ~10 % of the map update).
   void addEvidence(ScanAccumulator* scratch, int cx, int cy, float distance, double range,
-                   bool hit) const;
+                   bool hit) const {
+    if (!hit) {
+      scratch->add(cx, cy, clearMass());
+      return;
+    }
+    const ScanMass m = inverseMass(distance - range);
+    if (m.occupied == 0.0f && m.free == 0.0f) return;  // vacuous: nothing to add
+    scratch->add(cx, cy, m);
+  }
   // Applies the accumulated scan to `map`; EC added in bits, and the conflict measures if asked.
   double applyScan(ScanAccumulator* scratch, EvidentialGridMap* map, ScanConflict* conflict) const;
   // Half of the accumulator window: the longest ray, in cells.
