@@ -37,7 +37,7 @@ void EvidentialGridMap::Tile::buildOccupiedRows(float threshold, Rows* rows) con
     uint32_t bits = 0;
     const Cell* row = &cells[static_cast<size_t>(y) * kTileSize];
     for (int x = 0; x < kTileSize; ++x) {
-      bits |= static_cast<uint32_t>(row[x].occupied() >= threshold) << x;
+      bits |= static_cast<uint32_t>(isTarget(row[x], threshold)) << x;
     }
     (*rows)[static_cast<size_t>(y)] = bits;
   }

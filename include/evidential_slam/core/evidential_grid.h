@@ -64,8 +64,10 @@ class EvidentialGridMap {
       if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
       const uint32_t bit = 1u << (k & (kTileSize - 1));
       uint32_t& row = rows_[static_cast<size_t>(k >> kTileBits)];
-      row = cells[static_cast<size_t>(k)].occupied() >= rows_threshold_ ? row | bit : row & ~bit;
+      row = isTarget(cells[static_cast<size_t>(k)], rows_threshold_) ? row | bit : row & ~bit;
     }
+    // The rows' bit of a cell: m̃(o) at or above the threshold.
+    static bool isTarget(const Cell& c, float threshold) { return c.occupied() >= threshold; }
     void dropOccupiedRows() { rows_state_.store(kRowsNone, std::memory_order_release); }
 
    private:
