@@ -126,15 +126,15 @@ class Cell {
 // (certain, opposite masses) would make λ infinite.
 constexpr float kMaxUpdateConflict = 1.0f - 1.0f / (1 << 24);
 
-// Conjunctive update of a stored cell by a scan mass (algorithm.md §2.3); exact up to the storage's
-// rounding, never NaN. Returns the conflict K of this update (lambda grew by -ln(1 - K)) and, when
-// K > 0 and asked, lambda before the update.
 // True when updating `cell` by `scan` leaves it as it is: a scan mass without m(o) on a cell that is
 // certainly free (m̃(e) = 1, where space observed free many times ends up).
 inline bool updateLeavesCell(const Cell& cell, const ScanMass& scan) {
   return scan.occupied == 0.0f && cell.isCertainlyFree();
 }
 
+// Conjunctive update of a stored cell by a scan mass (algorithm.md §2.3); exact up to the storage's
+// rounding, never NaN. Returns the conflict K of this update (lambda grew by -ln(1 - K)) and, when
+// K > 0 and asked, lambda before the update.
 inline float updateCell(Cell& cell, const ScanMass& scan, float* lambda_before = nullptr) {
   if (updateLeavesCell(cell, scan)) return 0.0f;  // a fixed point: no change
   const float s_u = scan.unknown();
@@ -148,11 +148,9 @@ inline float updateCell(Cell& cell, const ScanMass& scan, float* lambda_before =
   }
   const float norm = std::max(1.0f - k, 1e-9f);
   cell.setMasses(occupied / norm, free / norm);
-  if (k > 0.0f) {
-    const float before = cell.lambda();
-    if (lambda_before != nullptr) *lambda_before = before;
-    cell.setLambda(before - std::log1p(-std::min(k, kMaxUpdateConflict)));
-  }
+  const float before = cell.lambda();
+  if (lambda_before != nullptr) *lambda_before = before;
+  cell.setLambda(before - std::log1p(-std::min(k, kMaxUpdateConflict)));
   return k;
 }
 
