@@ -89,8 +89,8 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
       .ok();
 }
 
-ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma,
-                                                    double hit_occupied_mass) const {
+ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma, double hit_occupied_mass,
+                                                    double resolution) const {
   ScanMatcherConfig c = *this;
   if (hit_occupied_mass > 0.0 && hit_occupied_mass < occupied_threshold) {
     c.occupied_threshold = hit_occupied_mass;
@@ -98,6 +98,7 @@ ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma,
   if (!(range_sigma > 0.0) || !std::isfinite(range_sigma)) return c;
   c.score_sigma = std::max(score_sigma, range_sigma);
   c.search_radius = std::max(search_radius, 1.5 * range_sigma);
+  if (range_sigma > resolution) c.point_to_line = false;
   return c;
 }
 
@@ -149,6 +150,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("along_track_prior", c.along_track_prior);
   visit("scan_matching", c.matcher.enabled);
   visit("matcher_search_radius", c.matcher.search_radius);
+  visit("matcher_point_to_line", c.matcher.point_to_line);
   visit("matcher_heading_window", c.matcher.heading_window);
   visit("matcher_heading_step", c.matcher.heading_step);
 }

@@ -40,7 +40,8 @@ PathNode::~PathNode() {
 struct ParticleFilter::ScanModels {
   ScanModels(const SlamConfig& config, float range_sigma)
       : beam(config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
-        matcher(config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied),
+        matcher(config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
+                                              config.resolution),
                 config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution) {}
   BeamModel beam;
   ScanMatcher matcher;

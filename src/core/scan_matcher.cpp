@@ -50,7 +50,9 @@ class CorrespondenceSearch {
 
   bool nearest(const CellIndex& hit, const CellIndex& free, CellIndex* offset) {
     const int r = radius_;
-    fetchTiles(hit.x - r, hit.y - r, hit.x + r, hit.y + r);
+    // With the margin normal() reads around a correspondence.
+    const int reach = r + kNormalReach;
+    fetchTiles(hit.x - reach, hit.y - reach, hit.x + reach, hit.y + reach);
     // Rows by growing |dy|, until dy² alone exceeds the best d².
     int best_d2 = std::numeric_limits<int>::max(), best_dy = 0, best_dx = 0;
     for (int k = 0; k <= r && k * k <= best_d2; ++k) {
@@ -75,7 +77,36 @@ class CorrespondenceSearch {
     return true;
   }
 
+  // After nearest() found `cell`: the unit normal of the surface the target cells within
+  // kNormalReach of it lie on (the axis of their least spread); false where they do not line up
+  // (fewer than 3, or a corner or blob: spread across over 0.3 of the spread along).
+  bool normal(const CellIndex& cell, Eigen::Vector2d* n) const {
+    int count = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+    for (int dy = -kNormalReach; dy <= kNormalReach; ++dy) {
+      forEachOccupied(cell.y + dy, cell.x - kNormalReach, cell.x + kNormalReach, [&](int x) {
+        const int dx = x - cell.x;
+        ++count;
+        sx += dx;
+        sy += dy;
+        sxx += dx * dx;
+        syy += dy * dy;
+        sxy += dx * dy;
+      });
+    }
+    if (count < 3) return false;
+    const double inv = 1.0 / count, mx = sx * inv, my = sy * inv;
+    const double cxx = sxx * inv - mx * mx, cyy = syy * inv - my * my, cxy = sxy * inv - mx * my;
+    const double half_diff = 0.5 * (cxx - cyy), root = std::sqrt(half_diff * half_diff + cxy * cxy);
+    const double mean = 0.5 * (cxx + cyy), along = mean + root, across = mean - root;
+    if (across > 0.3 * along) return false;
+    // The eigenvector of the smaller eigenvalue, from whichever row of (C - across·I) is longer.
+    const Eigen::Vector2d from_x(cxy, across - cxx), from_y(across - cyy, cxy);
+    *n = (from_x.squaredNorm() >= from_y.squaredNorm() ? from_x : from_y).normalized();
+    return true;
+  }
+
  private:
+  static constexpr int kNormalReach = 2;  // cells
   using Rows = EvidentialGridMap::Tile::Rows;
   static constexpr int kBits = EvidentialGridMap::kTileBits;
   static constexpr int kSize = EvidentialGridMap::kTileSize;
@@ -221,12 +252,22 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
   CorrespondenceSearch targets(map, static_cast<float>(config_.occupied_threshold), search_cells_,
                                row_half_width_);
-  // Weighted sums for the closed-form 2-D rigid alignment of matched pairs (q -> y).
+  const bool to_line = config_.point_to_line;
+  // Point to point: weighted sums for the closed-form 2-D rigid alignment of matched pairs
+  // (q -> y). Point to line: the Gauss-Newton normal equations H δ = -g of the linearised
+  // residuals n·(q - y) in δ = (tx, ty, dθ), rotating about the robot (point to point where the
+  // target cells do not line up).
   double sw = 0, sqx = 0, sqy = 0, syx = 0, syy = 0;
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector4d> pairs;  // q.x, q.y, y.x, y.y
   pairs.reserve(pts.size());
   std::vector<double> weights;
   weights.reserve(pts.size());
+  auto addResidual = [&](const Eigen::Vector3d& jacobian, double residual, double w) {
+    h.noalias() += w * jacobian * jacobian.transpose();
+    g.noalias() += (w * residual) * jacobian;
+  };
   for (const MatchPoint& p : pts) {
     const double qx = pose->x + c * p.hit.x() - s * p.hit.y();
     const double qy = pose->y + s * p.hit.x() + c * p.hit.y();
@@ -241,6 +282,19 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     pairs.emplace_back(qx, qy, yx, yy);
     weights.push_back(w);
     sw += w;
+    if (to_line) {
+      // ∂q/∂dθ about the robot: the lever arm turned by 90°.
+      const double ax = -(qy - pose->y), ay = qx - pose->x;
+      Eigen::Vector2d n = Eigen::Vector2d::Zero();
+      if (targets.normal(CellIndex{q.x + o.x, q.y + o.y}, &n)) {
+        addResidual({n.x(), n.y(), n.x() * ax + n.y() * ay}, n.x() * (qx - yx) + n.y() * (qy - yy),
+                    w);
+      } else {
+        addResidual({1.0, 0.0, ax}, qx - yx, w);
+        addResidual({0.0, 1.0, ay}, qy - yy, w);
+      }
+      continue;
+    }
     sqx += w * qx;
     sqy += w * qy;
     syx += w * yx;
@@ -249,6 +303,14 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
   if (pairs.size() <
       std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
     return false;
+  }
+  if (to_line) {
+    // A direction no residual constrains (along a corridor) stays where the proposal put it.
+    h.diagonal().array() += 1e-9 * (h.trace() + 1.0);
+    const Eigen::Vector3d delta = -h.ldlt().solve(g);
+    if (!delta.allFinite()) return false;
+    *pose = Pose2(pose->x + delta.x(), pose->y + delta.y(), pose->theta + delta.z());
+    return true;
   }
   const double mqx = sqx / sw, mqy = sqy / sw, myx = syx / sw, myy = syy / sw;
   double sin_sum = 0, cos_sum = 0;

@@ -34,6 +34,7 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("along_track_prior", p.slam.along_track_prior, c.along_track_prior);
   visit("scan_matching", p.slam.matcher.enabled, c.scan_matching);
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
+  visit("matcher_point_to_line", p.slam.matcher.point_to_line, c.matcher_point_to_line);
   visit("matcher_heading_window", p.slam.matcher.heading_window, c.matcher_heading_window);
   visit("matcher_heading_step", p.slam.matcher.heading_step, c.matcher_heading_step);
   visit("conflict_alarm_enabled", p.conflict_alarm.enabled, c.conflict_alarm_enabled);

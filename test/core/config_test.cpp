@@ -70,6 +70,9 @@ TEST(ConfigTest, SetsParametersByName) {
   EXPECT_TRUE(c.matcher.enabled);
   ASSERT_TRUE(setSlamParameter("matcher_heading_window", "0.2", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.matcher.heading_window, 0.2);
+  ASSERT_TRUE(c.matcher.point_to_line);
+  ASSERT_TRUE(setSlamParameter("matcher_point_to_line", "false", &c, &why)) << why;
+  EXPECT_FALSE(c.matcher.point_to_line);
   ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
   const SlamConfig d;
@@ -108,7 +111,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 23u);
+  EXPECT_EQ(names.size(), 24u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;

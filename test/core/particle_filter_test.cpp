@@ -268,15 +268,20 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
 
   // Matcher: kernel σ = max(0.05, σ_range), radius = max(0.4, 1.5·σ_range); the target threshold
   // drops to one hit's occupied mass when that is below 0.25 (0.0845 for σ = 0.3 at Δ = 0.05,
-  // see DeclaredRangeNoiseWidensTheModel; the default model's 0.6255 leaves 0.25).
+  // see DeclaredRangeNoiseWidensTheModel; the default model's 0.6255 leaves 0.25); ICP turns point
+  // to point when σ_range exceeds a cell.
   const ScanMatcherConfig matcher;
-  const ScanMatcherConfig noisy_matcher = matcher.forSensorNoise(0.3, 0.0845);
+  ASSERT_TRUE(matcher.point_to_line);
+  const ScanMatcherConfig noisy_matcher = matcher.forSensorNoise(0.3, 0.0845, 0.05);
   EXPECT_DOUBLE_EQ(noisy_matcher.score_sigma, 0.3);
   EXPECT_DOUBLE_EQ(noisy_matcher.search_radius, 0.45);
   EXPECT_DOUBLE_EQ(noisy_matcher.occupied_threshold, 0.0845);
-  const ScanMatcherConfig precise_matcher = matcher.forSensorNoise(0.01, 0.6255);
+  EXPECT_FALSE(noisy_matcher.point_to_line);
+  EXPECT_TRUE(matcher.forSensorNoise(0.3, 0.0845, 0.5).point_to_line);  // within a 0.5 m cell
+  const ScanMatcherConfig precise_matcher = matcher.forSensorNoise(0.01, 0.6255, 0.05);
   EXPECT_DOUBLE_EQ(precise_matcher.score_sigma, matcher.score_sigma);
   EXPECT_DOUBLE_EQ(precise_matcher.occupied_threshold, 0.25);
+  EXPECT_TRUE(precise_matcher.point_to_line);
 }
 
 // Particles that share a map and propose the same pose are one hypothesis: the scan is
@@ -311,9 +316,9 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
 
 // The wide-basin match (preset real) recovers a heading error ICP alone does not: after one update
 // without merging (merge_distance 0) the 8 particles have 8 maps (8 hypotheses), and when the next
-// odometry increment is 0.6 rad (34°) off in heading, which ICP from the prediction does not
-// recover (ScanMatcherTest.SearchRecoversLargeHeadingError), each hypothesis runs the multi-start
-// search over ±0.7 rad and every particle is brought back onto the truth. With the search off
+// odometry increment is 0.9 rad (52°) off in heading, which ICP from the prediction does not
+// recover (point to line recovers 0.6 rad in this small room), each hypothesis runs the multi-start
+// search over ±0.95 rad and every particle is brought back onto the truth. With the search off
 // (preset sim) ICP alone stays caught: the best particle is more than 0.1 rad off.
 TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   const auto run = [](bool wide, size_t* searches) {
@@ -321,7 +326,7 @@ TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
     config.merge_distance = 0.0;
     if (wide) {
       applyRealRobotPreset(&config);
-      config.matcher.heading_window = 0.7;
+      config.matcher.heading_window = 0.95;
     }
     ParticleFilter filter(config);
     Pose2 truth(-0.5, -0.3, 0.1);
@@ -331,7 +336,7 @@ TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
     truth = truth.compose(step);
     filter.update(step, scan(truth), 1);
     EXPECT_EQ(filter.lastUpdateGroups(), 8u);
-    const Pose2 turn(0.3, 0.0, 0.6);  // the robot really went straight
+    const Pose2 turn(0.3, 0.0, 0.9);  // the robot really went straight
     truth = truth.compose(step);
     filter.update(turn, scan(truth), 2);
     *searches = filter.lastWideMatches();

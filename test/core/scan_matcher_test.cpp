@@ -54,14 +54,72 @@ TEST_F(ScanMatcherTest, ScorePeaksAtTruth) {
   }
 }
 
-// refine() from a pose 8 cm / 6 cm / 0.03 rad off returns to the truth within 3 cm and 0.01 rad.
+// refine() from a pose 8 cm / 6 cm / 0.03 rad off returns to the truth within 3 cm and 0.01 rad,
+// with ICP point to line (the default) and point to point; so does ICP alone (no hill climb).
 TEST_F(ScanMatcherTest, RefineRecoversPerturbedPose) {
   const Pose2 start(truth_.x + 0.08, truth_.y - 0.06, truth_.theta + 0.03);
-  const Pose2 refined = matcher_.refine(map_, start, endpoints_);
-  EXPECT_NEAR(refined.x, truth_.x, 0.03);
-  EXPECT_NEAR(refined.y, truth_.y, 0.03);
-  EXPECT_NEAR(normalizeAngle(refined.theta - truth_.theta), 0.0, 0.01);
-  EXPECT_GE(matcher_.score(map_, refined, endpoints_), matcher_.score(map_, start, endpoints_));
+  for (const bool to_line : {true, false}) {
+    for (const int hill_climb_moves : {20, 0}) {
+      ScanMatcherConfig config;
+      config.point_to_line = to_line;
+      config.max_iterations = hill_climb_moves;
+      const ScanMatcher matcher(config, SensorModelConfig(), 0.05);
+      const Pose2 refined = matcher.refine(map_, start, endpoints_);
+      SCOPED_TRACE(testing::Message()
+                   << "point to line " << to_line << ", hill climb " << hill_climb_moves);
+      EXPECT_NEAR(refined.x, truth_.x, 0.03);
+      EXPECT_NEAR(refined.y, truth_.y, 0.03);
+      EXPECT_NEAR(normalizeAngle(refined.theta - truth_.theta), 0.0, 0.01);
+      EXPECT_GE(matcher.score(map_, refined, endpoints_), matcher.score(map_, start, endpoints_));
+    }
+  }
+}
+
+// A scan in a corridor (walls y = ±1, no end within the laser's 20 m) says nothing about the
+// position along it. ICP (point to line, the default, and point to point) corrects the offset
+// across the corridor and the heading and leaves the position along it where the proposal put it,
+// to within 2 cm.
+TEST(ScanMatcherCorridorTest, IcpKeepsTheUnobservedDirection) {
+  constexpr double kPi = 3.14159265358979323846;
+  auto corridorScan = [&](const Pose2& pose) {
+    LaserScan scan;
+    scan.max_range = 20.0f;
+    for (int i = 0; i < 360; ++i) {
+      const double bearing = -kPi + i * (2 * kPi / 360), s = std::sin(pose.theta + bearing);
+      const double t = s > 1e-9 ? (1.0 - pose.y) / s : s < -1e-9 ? (-1.0 - pose.y) / s : 1e9;
+      scan.bearings.push_back(static_cast<float>(bearing));
+      scan.ranges.push_back(static_cast<float>(std::min(t, 25.0)));
+      scan.valid.push_back(t < 20.0 ? 1 : 0);
+    }
+    return scan;
+  };
+  const BeamModel model(SensorModelConfig(), 0.05);
+  EvidentialGridMap map(0.05);
+  // Mapped from 17 poses along it, so its walls are continuous lines of occupied cells.
+  for (int i = -8; i <= 8; ++i) {
+    const Pose2 p(0.25 * i, 0.2 * std::sin(i), 0.05 * std::cos(i));
+    TracedScan traced;
+    model.traceScan(p, corridorScan(p), &traced);
+    ScanAccumulator scratch;
+    model.integrateScan(traced, &map, &scratch);
+  }
+  const Pose2 truth(0.4, 0.0, 0.0);
+  for (const bool to_line : {true, false}) {
+    ScanMatcherConfig config;
+    config.point_to_line = to_line;
+    config.max_iterations = 0;  // ICP alone
+    const ScanMatcher matcher(config, SensorModelConfig(), 0.05);
+    const std::vector<MatchPoint> pts = matcher.endpoints(corridorScan(truth));
+    ASSERT_GT(pts.size(), 100u);
+    for (const double along : {-0.3, 0.3}) {
+      SCOPED_TRACE(testing::Message() << "point to line " << to_line << ", along " << along);
+      const Pose2 start(truth.x + along, truth.y + 0.12, truth.theta + 0.04);
+      const Pose2 refined = matcher.refine(map, start, pts);
+      EXPECT_NEAR(refined.y, truth.y, 0.03);  // cell centres: within half a cell
+      EXPECT_NEAR(normalizeAngle(refined.theta - truth.theta), 0.0, 0.005);
+      EXPECT_NEAR(refined.x, start.x, 0.02);
+    }
+  }
 }
 
 // search() turns the start by up to ±heading_window: from 0.6 rad (34°) and 10 cm off, where ICP

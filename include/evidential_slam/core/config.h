@@ -49,12 +49,17 @@ struct ScanMatcherConfig {
   double search_radius = 0.4;        // m around each endpoint searched for an occupied cell
   double occupied_threshold = 0.25;  // m̃(o) that makes a cell a match target (at most one hit's)
   int icp_iterations = 12;           // at most
-  double linear_step = 0.02;         // m, first hill-climb step, halved at every refinement
-  double angular_step = 0.01;        // rad
-  int refinements = 3;               // number of step halvings
-  int max_iterations = 20;           // hill-climb moves per refinement level, at most
-  double score_sigma = 0.05;         // m, spread of the endpoint score kernel
-  int beam_stride = 2;               // every n-th usable beam is matched
+  // ICP minimises each endpoint's distance to the line through the target cells around its match
+  // (their axis of least spread is the normal), by Gauss-Newton steps, so it does not slide along
+  // walls; point to point where those cells do not line up (a corner, a lone cell). false: the
+  // distance to the matched cell's centre everywhere (closed-form rigid alignment).
+  bool point_to_line = true;
+  double linear_step = 0.02;   // m, first hill-climb step, halved at every refinement
+  double angular_step = 0.01;  // rad
+  int refinements = 3;         // number of step halvings
+  int max_iterations = 20;     // hill-climb moves per refinement level, at most
+  double score_sigma = 0.05;   // m, spread of the endpoint score kernel
+  int beam_stride = 2;         // every n-th usable beam is matched
   double min_match_fraction =
       0.2;  // below this fraction of endpoints matched, keep the sampled pose
   // Wide-basin match (applyRealRobotPreset): before the particles are sampled, each hypothesis
@@ -71,7 +76,11 @@ struct ScanMatcherConfig {
   // and a cell is a match target once it holds one hit's worth of occupied mass
   // (`hit_occupied_mass`, the inverse model's m(o) at the hit) if that is below the threshold:
   // a 0.3 m-noise laser puts only 0.085 on a hit cell, so 0.25 would leave ICP without targets.
-  ScanMatcherConfig forSensorNoise(double range_sigma, double hit_occupied_mass) const;
+  // ICP is point to point when the noise exceeds a cell (`resolution`): a wall's evidence is then
+  // a band several cells thick with its targets scattered through it, and the line through a few
+  // of them is not the wall's.
+  ScanMatcherConfig forSensorNoise(double range_sigma, double hit_occupied_mass,
+                                   double resolution) const;
 };
 
 struct SlamConfig {
