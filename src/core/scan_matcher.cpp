@@ -260,7 +260,8 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
   double sw = 0, sqx = 0, sqy = 0, syx = 0, syy = 0;
   Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
   Eigen::Vector3d g = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector4d> pairs;  // q.x, q.y, y.x, y.y
+  size_t matched = 0;
+  std::vector<Eigen::Vector4d> pairs;  // point to point: q.x, q.y, y.x, y.y
   pairs.reserve(pts.size());
   std::vector<double> weights;
   weights.reserve(pts.size());
@@ -279,8 +280,7 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
     const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
     const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
-    pairs.emplace_back(qx, qy, yx, yy);
-    weights.push_back(w);
+    ++matched;
     sw += w;
     if (to_line) {
       // ∂q/∂dθ about the robot: the lever arm turned by 90°.
@@ -295,13 +295,14 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
       }
       continue;
     }
+    pairs.emplace_back(qx, qy, yx, yy);
+    weights.push_back(w);
     sqx += w * qx;
     sqy += w * qy;
     syx += w * yx;
     syy += w * yy;
   }
-  if (pairs.size() <
-      std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
+  if (matched < std::max<size_t>(3, static_cast<size_t>(config_.min_match_fraction * pts.size()))) {
     return false;
   }
   if (to_line) {
