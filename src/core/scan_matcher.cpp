@@ -262,9 +262,11 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
   Eigen::Vector3d g = Eigen::Vector3d::Zero();
   size_t matched = 0;
   std::vector<Eigen::Vector4d> pairs;  // point to point: q.x, q.y, y.x, y.y
-  pairs.reserve(pts.size());
   std::vector<double> weights;
-  weights.reserve(pts.size());
+  if (!to_line) {
+    pairs.reserve(pts.size());
+    weights.reserve(pts.size());
+  }
   auto addResidual = [&](const Eigen::Vector3d& jacobian, double residual, double w) {
     h.noalias() += w * jacobian * jacobian.transpose();
     g.noalias() += (w * residual) * jacobian;
@@ -281,7 +283,6 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
     const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
     ++matched;
-    sw += w;
     if (to_line) {
       // ∂q/∂dθ about the robot: the lever arm turned by 90°.
       const double ax = -(qy - pose->y), ay = qx - pose->x;
@@ -297,6 +298,7 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     }
     pairs.emplace_back(qx, qy, yx, yy);
     weights.push_back(w);
+    sw += w;
     sqx += w * qx;
     sqy += w * qy;
     syx += w * yx;
