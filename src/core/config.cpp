@@ -79,7 +79,8 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
       .require(refinements >= 0 && refinements <= 12, "matcher refinements must be in [0, 12]")
       .require(max_iterations >= 0, "matcher max_iterations must be >= 0")
       .require(positiveFinite(score_sigma), "matcher score_sigma must be > 0")
-      .require(beam_stride >= 1, "matcher beam_stride must be >= 1")
+      .require(nonNegativeFinite(beam_spacing) && beam_spacing <= M_PI,
+               "matcher beam_spacing must be in [0, pi] rad")
       .require(min_match_fraction >= 0.0 && min_match_fraction <= 1.0,
                "matcher min_match_fraction must be in [0, 1]")
       .require(nonNegativeFinite(heading_window) && heading_window <= M_PI,
@@ -98,7 +99,10 @@ ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma, double h
   if (!(range_sigma > 0.0) || !std::isfinite(range_sigma)) return c;
   c.score_sigma = std::max(score_sigma, range_sigma);
   c.search_radius = std::max(search_radius, 1.5 * range_sigma);
-  if (range_sigma > resolution) c.point_to_line = false;
+  if (range_sigma > resolution) {
+    c.point_to_line = false;
+    c.beam_spacing = 0.5 * beam_spacing;
+  }
   return c;
 }
 

@@ -19,8 +19,6 @@ constexpr double kAlternativeStartsFrom = 0.15;
 // Freiburg 079 reverses unsigned in 3.5 % of its scans). Also the floor of the weights'
 // along-track motion prior (alongTrackLogPrior).
 constexpr double kTranslationFailureNats = 3.0;
-// The wide-basin match weighs candidates on every n-th beam (half the cost, same ranking).
-constexpr int kWideMatchBeamStride = 2;
 // A nominal match whose log plausibility per beam is above this explains the scan: the wide search
 // is skipped. The floor is log r = -1.6 (a random reading); measured on intel (250 scans, K = 30):
 // -0.3 keeps the full search's accuracy (0.16 m) at 85 % of its time, -0.5 loses it (1.1 m).
@@ -258,7 +256,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       if (h == firsts.size()) firsts.push_back(k);
       hypothesis_of[k] = h;
     }
-    const LaserScan hits = hitBeamSubset(scan, config_.sensor, kWideMatchBeamStride);
+    // Candidates are weighed on the beams the matcher uses (half of a 1° laser's: half the cost,
+    // the same ranking).
+    const LaserScan hits = hitBeamSubset(scan, config_.sensor, matcher->matchStride(scan));
     correction.resize(firsts.size());
     std::vector<char> searched(firsts.size(), 0);
     pool_->run(firsts.size(), [&](size_t h, int worker) {

@@ -185,16 +185,26 @@ ScanMatcher::ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfi
   }
 }
 
+int ScanMatcher::matchStride(const LaserScan& scan) const {
+  const size_t n = scan.bearings.size();
+  if (n < 2) return 1;
+  const double step = std::abs(scan.bearings.back() - scan.bearings.front()) / (n - 1);
+  if (!(step > 0.0)) return 1;
+  const double stride = std::min(config_.beam_spacing / step, static_cast<double>(n));
+  return std::max(1, static_cast<int>(std::lround(stride)));
+}
+
 std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan) const {
   std::vector<MatchPoint> pts;
   const double limit = std::min<double>(
       sensor_.usable_range, scan.max_range > 0.0f ? scan.max_range : sensor_.usable_range);
+  const int stride = matchStride(scan);
   int k = 0;
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     const float z = scan.ranges[i];
     if (!scan.valid.empty() && scan.valid[i] == 0) continue;
     if (!std::isfinite(z) || z < sensor_.min_range || z >= limit) continue;
-    if (k++ % config_.beam_stride != 0) continue;
+    if (k++ % stride != 0) continue;
     const Eigen::Vector2d dir(std::cos(scan.bearings[i]), std::sin(scan.bearings[i]));
     // Probe in front of the inverse model's Θ gap (k_i·σ + Δ/2), where repeated passes make cells
     // free.

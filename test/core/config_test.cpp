@@ -147,6 +147,9 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c.matcher.heading_step = 0.0;
   expectInvalid(c, "heading_step = 0");
   c = SlamConfig();
+  c.matcher.beam_spacing = -0.01;
+  expectInvalid(c, "beam_spacing < 0");
+  c = SlamConfig();
   c.sensor.random_weight = 1.0;
   expectInvalid(c, "random_weight = 1");
   c = SlamConfig();

@@ -269,7 +269,7 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
   // Matcher: kernel σ = max(0.05, σ_range), radius = max(0.4, 1.5·σ_range); the target threshold
   // drops to one hit's occupied mass when that is below 0.25 (0.0845 for σ = 0.3 at Δ = 0.05,
   // see DeclaredRangeNoiseWidensTheModel; the default model's 0.6255 leaves 0.25); ICP turns point
-  // to point when σ_range exceeds a cell.
+  // to point, and matches endpoints twice as densely, when σ_range exceeds a cell.
   const ScanMatcherConfig matcher;
   ASSERT_TRUE(matcher.point_to_line);
   const ScanMatcherConfig noisy_matcher = matcher.forSensorNoise(0.3, 0.0845, 0.05);
@@ -277,11 +277,15 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
   EXPECT_DOUBLE_EQ(noisy_matcher.search_radius, 0.45);
   EXPECT_DOUBLE_EQ(noisy_matcher.occupied_threshold, 0.0845);
   EXPECT_FALSE(noisy_matcher.point_to_line);
-  EXPECT_TRUE(matcher.forSensorNoise(0.3, 0.0845, 0.5).point_to_line);  // within a 0.5 m cell
+  EXPECT_DOUBLE_EQ(noisy_matcher.beam_spacing, 0.5 * matcher.beam_spacing);
+  const ScanMatcherConfig coarse_cells = matcher.forSensorNoise(0.3, 0.0845, 0.5);
+  EXPECT_TRUE(coarse_cells.point_to_line);  // within a 0.5 m cell
+  EXPECT_DOUBLE_EQ(coarse_cells.beam_spacing, matcher.beam_spacing);
   const ScanMatcherConfig precise_matcher = matcher.forSensorNoise(0.01, 0.6255, 0.05);
   EXPECT_DOUBLE_EQ(precise_matcher.score_sigma, matcher.score_sigma);
   EXPECT_DOUBLE_EQ(precise_matcher.occupied_threshold, 0.25);
   EXPECT_TRUE(precise_matcher.point_to_line);
+  EXPECT_DOUBLE_EQ(precise_matcher.beam_spacing, matcher.beam_spacing);
 }
 
 // Particles that share a map and propose the same pose are one hypothesis: the scan is

@@ -141,6 +141,42 @@ TEST_F(ScanMatcherTest, SearchRecoversLargeHeadingError) {
   EXPECT_DOUBLE_EQ(same.theta, start.theta);
 }
 
+// A fan of `n` beams spread evenly over `aperture`, all hitting at 3 m; beams i with
+// invalid(i) true are no-returns.
+template <typename Invalid>
+LaserScan fanScan(int n, double aperture, Invalid invalid) {
+  LaserScan scan;
+  scan.max_range = 30.0f;
+  for (int i = 0; i < n; ++i) {
+    scan.bearings.push_back(
+        static_cast<float>(-0.5 * aperture + (n > 1 ? i * aperture / (n - 1) : 0.0)));
+    scan.ranges.push_back(3.0f);
+    scan.valid.push_back(invalid(i) ? 0 : 1);
+  }
+  return scan;
+}
+
+// Endpoints are matched every beam_spacing (2°) of bearing whatever the laser's density: every
+// 2nd beam of a 1° laser, every 4th of a 0.5° one, counted over usable beams only.
+TEST(ScanMatcherSpacingTest, MatchesBeamsAtTheConfiguredSpacing) {
+  constexpr double kPi = 3.14159265358979323846;
+  const auto none = [](int) { return false; };
+  const ScanMatcher matcher(ScanMatcherConfig(), SensorModelConfig(), 0.05);
+  const LaserScan one_degree = fanScan(181, kPi, none), half_degree = fanScan(361, kPi, none);
+  EXPECT_EQ(matcher.matchStride(one_degree), 2);
+  EXPECT_EQ(matcher.endpoints(one_degree).size(), 91u);  // beams 0, 2, ..., 180
+  EXPECT_EQ(matcher.matchStride(half_degree), 4);
+  EXPECT_EQ(matcher.endpoints(half_degree).size(), 91u);  // beams 0, 4, ..., 360
+  // Every other beam a no-return: 181 usable, every 4th of them matched.
+  const LaserScan gaps = fanScan(361, kPi, [](int i) { return i % 2 == 1; });
+  EXPECT_EQ(matcher.endpoints(gaps).size(), 46u);
+  // A single beam, or no spacing: every usable beam.
+  EXPECT_EQ(matcher.matchStride(fanScan(1, 0.0, none)), 1);
+  ScanMatcherConfig dense;
+  dense.beam_spacing = 0.0;
+  EXPECT_EQ(ScanMatcher(dense, SensorModelConfig(), 0.05).endpoints(half_degree).size(), 361u);
+}
+
 // On an empty map nothing can be matched: the initial pose is returned unchanged.
 TEST_F(ScanMatcherTest, EmptyMapKeepsPose) {
   const EvidentialGridMap empty(0.05);

@@ -27,8 +27,11 @@ class ScanMatcher {
  public:
   ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor, double resolution);
 
-  // Beam endpoints in the robot frame used for matching (every beam_stride-th usable hit).
+  // Beam endpoints in the robot frame used for matching (every matchStride()-th usable hit).
   std::vector<MatchPoint> endpoints(const LaserScan& scan) const;
+  // Every how many beams of `scan` an endpoint is matched: the beam_spacing in the scan's mean
+  // angular step, rounded, at least 1 (2 for a 1° laser, 4 for a 0.5° one).
+  int matchStride(const LaserScan& scan) const;
   // Σ over endpoints of the best m̃(o)(hit)·m̃(e)(free)·exp(-d²/2σ²) over 3x3 cell offsets.
   double score(const EvidentialGridMap& map, const Pose2& robot_pose,
                const std::vector<MatchPoint>& endpoints) const;
