@@ -44,14 +44,17 @@ const Cell Neighbourhood::kVacuous{};
 // endpoint with no target near it costs a few words, not a cell read per offset.
 class CorrespondenceSearch {
  public:
+  // `with_normals`: normal() will be called, so nearest() also fetches the tiles it reads.
   CorrespondenceSearch(const EvidentialGridMap& map, float threshold, int radius,
-                       const std::vector<int>& row_half_width)
-      : map_(map), threshold_(threshold), radius_(radius), row_half_width_(row_half_width) {}
+                       const std::vector<int>& row_half_width, bool with_normals)
+      : map_(map),
+        threshold_(threshold),
+        radius_(radius),
+        reach_(radius + (with_normals ? kNormalReach : 0)),
+        row_half_width_(row_half_width) {}
 
   bool nearest(const CellIndex& hit, const CellIndex& free, CellIndex* offset) {
-    const int r = radius_;
-    // With the margin normal() reads around a correspondence.
-    const int reach = r + kNormalReach;
+    const int r = radius_, reach = reach_;
     fetchTiles(hit.x - reach, hit.y - reach, hit.x + reach, hit.y + reach);
     // Rows by growing |dy|, until dy² alone exceeds the best d².
     int best_d2 = std::numeric_limits<int>::max(), best_dy = 0, best_dx = 0;
@@ -155,6 +158,7 @@ class CorrespondenceSearch {
   const EvidentialGridMap& map_;
   const float threshold_;
   const int radius_;
+  const int reach_;  // cells around a hit whose tiles nearest() fetches
   const std::vector<int>& row_half_width_;
   int tx0_ = 0, ty0_ = 0, nx_ = 0, ny_ = 0;  // the box of tiles fetched (none yet)
   std::vector<const Rows*> rows_;
@@ -253,16 +257,16 @@ double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
 bool ScanMatcher::correspondence(const EvidentialGridMap& map, const CellIndex& hit,
                                  const CellIndex& free, CellIndex* offset) const {
   CorrespondenceSearch search(map, static_cast<float>(config_.occupied_threshold), search_cells_,
-                              row_half_width_);
+                              row_half_width_, /*with_normals=*/false);
   return search.nearest(hit, free, offset);
 }
 
 bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
                           Pose2* pose) const {
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
-  CorrespondenceSearch targets(map, static_cast<float>(config_.occupied_threshold), search_cells_,
-                               row_half_width_);
   const bool to_line = config_.point_to_line;
+  CorrespondenceSearch targets(map, static_cast<float>(config_.occupied_threshold), search_cells_,
+                               row_half_width_, to_line);
   // Point to point: weighted sums for the closed-form 2-D rigid alignment of matched pairs
   // (q -> y). Point to line: the Gauss-Newton normal equations H δ = -g of the linearised
   // residuals n·(q - y) in δ = (tx, ty, dθ), rotating about the robot (point to point where the
