@@ -38,6 +38,8 @@ bool SensorModelConfig::isValid(std::string* why) const {
       .require(positiveFinite(forward_window), "forward_window must be > 0")
       .require(nonNegativeFinite(free_gap), "free_gap must be >= 0")
       .require(random_weight > 0.0 && random_weight < 1.0, "random_weight must be in (0, 1)")
+      .require(forward_unknown_weight >= 0.0 && forward_unknown_weight <= 1.0,
+               "forward_unknown_weight must be in [0, 1]")
       .require(prior_occupied > 0.0 && prior_occupied < 1.0, "prior_occupied must be in (0, 1)")
       .require(positiveFinite(usable_range), "usable_range must be > 0")
       .require(nonNegativeFinite(min_range) && min_range < usable_range,
@@ -138,6 +140,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("forward_window", c.sensor.forward_window);
   visit("free_gap", c.sensor.free_gap);
   visit("random_weight", c.sensor.random_weight);
+  visit("forward_unknown_weight", c.sensor.forward_unknown_weight);
   visit("prior_occupied", c.sensor.prior_occupied);
   visit("usable_range", c.sensor.usable_range);
   visit("min_range", c.sensor.min_range);

@@ -32,6 +32,7 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_DOUBLE_EQ(c.resample_threshold, 0.5);
   EXPECT_FALSE(c.along_track_prior);
   EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
+  EXPECT_DOUBLE_EQ(c.sensor.forward_unknown_weight, 1.0);
   EXPECT_DOUBLE_EQ(c.sensor.prior_occupied, 0.4);
   EXPECT_DOUBLE_EQ(c.sensor.hit_sigma, 0.025);
   EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.025);
@@ -111,7 +112,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 24u);
+  EXPECT_EQ(names.size(), 25u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;
@@ -158,6 +159,11 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c = SlamConfig();
   c.sensor.random_weight = -0.1;
   expectInvalid(c, "random_weight < 0");
+  c = SlamConfig();
+  c.sensor.forward_unknown_weight = 1.5;
+  expectInvalid(c, "forward_unknown_weight > 1");
+  c.sensor.forward_unknown_weight = -0.1;
+  expectInvalid(c, "forward_unknown_weight < 0");
   c = SlamConfig();
   c.sensor.prior_occupied = 0.0;
   expectInvalid(c, "prior_occupied = 0");

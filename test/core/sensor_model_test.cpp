@@ -35,6 +35,7 @@ SensorModelConfig paperConfig() {
   c.forward_window = 3.0;
   c.free_gap = 3.0;
   c.random_weight = 0.2;
+  c.forward_unknown_weight = 1.0;  // the paper's disjunctive rule for m(Θ)
   c.prior_occupied = 0.4;
   c.usable_range = 20.0;
   c.min_range = 0.05;
@@ -89,6 +90,24 @@ class ForwardModelTest : public testing::Test {
 // (the end-point term g(z - 20) is 0); pl = 0.8 * 0.99995196 + 0.2 = 0.99996157 ≈ 1.
 TEST_F(ForwardModelTest, UnknownSpaceIsFullyPlausible) {
   EXPECT_NEAR(plausibility(kZ), 0.99996157, 1e-3);
+}
+
+// With forward_unknown_weight w, m̃(Θ) stops the beam only for its share w: in unknown space
+// a_i = w g_i, b_i = 1 - w g_i, so P_0 = 1 - Π(1 - w g_i). w = 0.5: 1 - 0.99932505 ·
+// 0.92067238² · 0.57932765² · 0.50134990 = 0.85746991, pl = 0.8 · 0.85746991 + 0.2 = 0.88597593.
+// w = 0: unknown cells let the beam through like free ones, pl = r.
+TEST_F(ForwardModelTest, UnknownWeightDiscountsUnknownSpace) {
+  SensorModelConfig config = paperConfig();
+  config.forward_unknown_weight = 0.5;
+  const BeamModel half(config, kRes);
+  EXPECT_NEAR(half.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.88597593, 1e-3);
+  config.forward_unknown_weight = 0.0;
+  const BeamModel none(config, kRes);
+  EXPECT_NEAR(none.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.2, 1e-6);
+  // A certain obstacle at the range is as plausible as with the paper's rule (no m̃(Θ) on it).
+  fill(makeCell(0.0f, 1.0f));
+  map_.mutableCell(kHitCell, 0) = makeCell(1.0f, 0.0f);
+  EXPECT_NEAR(half.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.99784016, 1e-4);
 }
 
 // Beam ending in certainly free space: a_i = 0, b_i = 1, P_0 = g(z - z_max) = 0: pl = r = 0.2.
@@ -500,7 +519,7 @@ TEST(IntegrateScanTest, AccumulatorAcrossTilesAndNegativeCells) {
 TEST(IntegrateScanTest, UnchangedTilesStayShared) {
   EvidentialGridMap map(kRes);
   for (int x = 0; x < 64; ++x) map.mutableCell(x, 3) = makeCell(0.0f, 1.0f);  // tiles (0,0), (1,0)
-  map.mutableCell(40, 3) = makeCell(0.0f, 0.5f);                                // tile (1, 0)
+  map.mutableCell(40, 3) = makeCell(0.0f, 0.5f);                              // tile (1, 0)
   EvidentialGridMap particle = map;
   const auto sharedTiles = [&]() {
     return static_cast<int>(map.tile(0, 0) == particle.tile(0, 0)) +

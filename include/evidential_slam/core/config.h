@@ -15,11 +15,19 @@ struct SensorModelConfig {
   double forward_window = 3.0;   // k_f: half-width of the forward hit window in σ_f
   double free_gap = 3.0;         // k_i: Θ gap left in front of a hit, in σ
   double random_weight = 0.2;    // r: random-measurement discount / plausibility floor
-  double prior_occupied = 0.4;   // p_o: simple-support occupancy prior of the inverse model
-  double usable_range = 20.0;    // m; longer rays only clear space up to here
-  double min_range = 0.05;       // m; shorter rays are ignored (robot body, dust)
-  bool clear_no_return = true;   // no-return rays clear space up to usable_range
-  int weight_beam_stride = 1;    // use every n-th beam for particle weights
+  // Share of a cell's ignorance m̃(Θ) that the forward model lets stop the beam, the rest letting
+  // it pass as free space would. 1 is the paper's disjunctive rule: a beam ending in never-observed
+  // space is fully plausible (pl ≈ 1), more than one ending on a mapped wall, so a particle that
+  // has drifted off its map can outweigh the ones that follow it (aces-synth seed 1: 6.3 m). With
+  // 0.5 such a beam has pl ≈ 0.89 (0.05 m cells, σ_f = 2.5 cm; a certain wall at the range:
+  // 0.998): that run ends 0.31 m off, but beams into new space then favour particles that fit the
+  // scan to old walls, and aces seeds 4 and 5 collapsed (6.4, 7.8 m). Kept at the paper's 1.
+  double forward_unknown_weight = 1.0;
+  double prior_occupied = 0.4;  // p_o: simple-support occupancy prior of the inverse model
+  double usable_range = 20.0;   // m; longer rays only clear space up to here
+  double min_range = 0.05;      // m; shorter rays are ignored (robot body, dust)
+  bool clear_no_return = true;  // no-return rays clear space up to usable_range
+  int weight_beam_stride = 1;   // use every n-th beam for particle weights
 
   bool isValid(std::string* why) const;
   // The model for a sensor that declares `range_sigma` of range noise: the σ's are never below
