@@ -17,11 +17,11 @@ struct SensorModelConfig {
   double random_weight = 0.2;    // r: random-measurement discount / plausibility floor
   // Share of a cell's ignorance m̃(Θ) that the forward model lets stop the beam, the rest letting
   // it pass as free space would. 1 is the paper's disjunctive rule: a beam ending in never-observed
-  // space is fully plausible (pl ≈ 1), more than one ending on a mapped wall, so a particle that
-  // has drifted off its map can outweigh the ones that follow it (aces-synth seed 1: 6.3 m). With
-  // 0.5 such a beam has pl ≈ 0.89 (0.05 m cells, σ_f = 2.5 cm; a certain wall at the range:
-  // 0.998): that run ends 0.31 m off, but beams into new space then favour particles that fit the
-  // scan to old walls, and aces seeds 4 and 5 collapsed (6.4, 7.8 m). Kept at the paper's 1.
+  // space is fully plausible (pl ≈ 1), more than one ending on a mapped wall, which can favour a
+  // particle whose scan falls off its map. With 0.5 such a beam has pl ≈ 0.89 (0.05 m cells,
+  // σ_f = 2.5 cm; a certain wall at the range: 0.998). Measured at 0.5: aces-synth seeds 1 and 2
+  // no longer collapse (0.31, 0.32 m against 6.3, 3.9), but aces seeds 4 and 5 do (6.4, 7.8 m
+  // against 0.42, 0.28). Kept at the paper's 1.
   double forward_unknown_weight = 1.0;
   double prior_occupied = 0.4;  // p_o: simple-support occupancy prior of the inverse model
   double usable_range = 20.0;   // m; longer rays only clear space up to here
