@@ -167,11 +167,11 @@ ParticleFilter::NominalMatch ParticleFilter::nominalMatch(
     const EvidentialGridMap& map, const Pose2& predicted, const std::vector<MatchPoint>& endpoints,
     const LaserScan& hits, const ScanModels& models, TracedScan* traced) const {
   NominalMatch m;
-  double s = 0.0;
-  m.pose = models.matcher.search(map, predicted, endpoints, 0.0, &s);
+  m.icp = models.matcher.matchFrom(map, predicted, endpoints);
+  m.pose = m.icp.pose;
   // No match from the prediction: the map does not explain the scan there (a new area); a start
   // nearer the mapped area would win for that reason alone.
-  if (s <= 0.0) {
+  if (m.icp.score <= 0.0) {
     m.pose = predicted;
     m.settled = true;
     return m;
@@ -191,14 +191,18 @@ double ParticleFilter::wideLogPlausibility(const EvidentialGridMap& map, const P
 
 std::vector<ParticleFilter::WideCandidate> ParticleFilter::wideCandidates(
     const EvidentialGridMap& map, const Pose2& previous, const Pose2& increment,
-    const std::vector<MatchPoint>& endpoints, const ScanModels& models) const {
+    const std::vector<MatchPoint>& endpoints, const ScanModels& models,
+    const NominalMatch& nominal) const {
   const Pose2 predicted = previous.compose(increment);
   std::vector<WideCandidate> candidates;
   double s = 0.0;
   // A turned candidate is one the odometry's heading error makes common (prior 1/e); one without
-  // or with reversed translation, an odometry failure (prior 5 %).
-  candidates.push_back(WideCandidate{
-      models.matcher.search(map, predicted, endpoints, config_.matcher.heading_window, &s), 1.0});
+  // or with reversed translation, an odometry failure (prior 5 %). The unturned start is the
+  // nominal match's ICP.
+  candidates.push_back(
+      WideCandidate{models.matcher.search(map, predicted, endpoints, config_.matcher.heading_window,
+                                          &s, &nominal.icp),
+                    1.0});
   if (std::hypot(increment.x, increment.y) > kAlternativeStartsFrom) {
     for (const double sign : {0.0, -1.0}) {  // no translation; translation reversed
       const Pose2 start =
@@ -270,9 +274,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       Pose2 chosen = nominal.pose;
       if (!nominal.settled) {
         searched[h] = 1;
-        chosen = chooseCandidate(p.map, nominal,
-                                 wideCandidates(p.map, p.pose, increment, endpoints, models), hits,
-                                 models, traced);
+        chosen = chooseCandidate(
+            p.map, nominal, wideCandidates(p.map, p.pose, increment, endpoints, models, nominal),
+            hits, models, traced);
       }
       correction[h] = predicted.between(chosen);
     });

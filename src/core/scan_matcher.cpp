@@ -406,9 +406,21 @@ Pose2 ScanMatcher::refine(const EvidentialGridMap& map, const Pose2& initial,
   return config_.max_iterations > 0 ? hillClimb(map, pose, pts) : pose;
 }
 
+ScanMatcher::Match ScanMatcher::matchFrom(const EvidentialGridMap& map, const Pose2& start,
+                                          const std::vector<MatchPoint>& pts) const {
+  Match m;
+  m.pose = start;
+  if (pts.empty() || !icp(map, pts, &m.pose)) {
+    m.pose = start;
+    return m;
+  }
+  m.score = score(map, m.pose, pts);
+  return m;
+}
+
 Pose2 ScanMatcher::search(const EvidentialGridMap& map, const Pose2& predicted,
                           const std::vector<MatchPoint>& pts, double heading_window,
-                          double* best_score_out) const {
+                          double* best_score_out, const Match* unturned) const {
   *best_score_out = -1.0;
   if (pts.empty()) return predicted;
   const int n = static_cast<int>(std::floor(heading_window / config_.heading_step + 1e-9));
@@ -416,12 +428,15 @@ Pose2 ScanMatcher::search(const EvidentialGridMap& map, const Pose2& predicted,
   double best_score = -1.0;
   for (int i = 0; i <= 2 * n; ++i) {
     const int k = (i + 1) / 2 * (i % 2 == 1 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
-    Pose2 pose(predicted.x, predicted.y, predicted.theta + k * config_.heading_step);
-    if (!icp(map, pts, &pose)) continue;
-    const double s = score(map, pose, pts);
-    if (s > best_score) {
-      best_score = s;
-      best = pose;
+    const Match m =
+        k == 0 && unturned != nullptr
+            ? *unturned
+            : matchFrom(map,
+                        Pose2(predicted.x, predicted.y, predicted.theta + k * config_.heading_step),
+                        pts);
+    if (m.score > best_score) {  // a start without matches has score -1
+      best_score = m.score;
+      best = m.pose;
     }
   }
   *best_score_out = best_score;

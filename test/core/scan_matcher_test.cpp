@@ -134,11 +134,28 @@ TEST_F(ScanMatcherTest, SearchRecoversLargeHeadingError) {
   EXPECT_NEAR(found.y, truth_.y, 0.05);
   EXPECT_NEAR(normalizeAngle(found.theta - truth_.theta), 0.0, 0.03);
   EXPECT_NEAR(score, matcher_.score(map_, found, endpoints_), 1e-9);
+  // Handing it the unturned start's ICP, already run, gives the same pose and score.
+  const ScanMatcher::Match unturned = matcher_.matchFrom(map_, start, endpoints_);
+  EXPECT_GE(unturned.score, 0.0);
+  double reused_score = 0.0;
+  const Pose2 reused = matcher_.search(map_, start, endpoints_, 0.7, &reused_score, &unturned);
+  EXPECT_EQ(reused.x, found.x);
+  EXPECT_EQ(reused.y, found.y);
+  EXPECT_EQ(reused.theta, found.theta);
+  EXPECT_EQ(reused_score, score);
+  // An unturned start better than every turned one is what the search returns.
+  const ScanMatcher::Match better{Pose2(1.0, 2.0, 0.3), score + 1.0};
+  const Pose2 taken = matcher_.search(map_, start, endpoints_, 0.7, &reused_score, &better);
+  EXPECT_EQ(taken.x, 1.0);
+  EXPECT_EQ(reused_score, score + 1.0);
   // No match on an empty map: the prediction, score -1.
   const EvidentialGridMap empty(0.05);
   const Pose2 same = matcher_.search(empty, start, endpoints_, 0.35, &score);
   EXPECT_EQ(score, -1.0);
   EXPECT_DOUBLE_EQ(same.theta, start.theta);
+  const ScanMatcher::Match none = matcher_.matchFrom(empty, start, endpoints_);
+  EXPECT_EQ(none.score, -1.0);
+  EXPECT_EQ(none.pose.theta, start.theta);
 }
 
 // A fan of `n` beams spread evenly over `aperture`, all hitting at 3 m; beams i with

@@ -11,14 +11,13 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/pose2.h"
+#include "evidential_slam/core/scan_matcher.h"
 #include "evidential_slam/core/sensor_model.h"
 
 namespace evidential_slam {
 
 class BeamModel;
-class ScanMatcher;
 class WorkerPool;
-struct MatchPoint;
 struct TracedScan;
 
 // One node of a particle's path; children share their ancestors' nodes.
@@ -79,7 +78,8 @@ class ParticleFilter {
   // The beams of `scan` that BeamModel::traceScan makes hits, every `stride`-th of them, as a scan
   // of their own: its traced log plausibility (stride 1) equals the whole scan's at `stride`
   // without tracing the other beams. Exposed for tests.
-  static LaserScan hitBeamSubset(const LaserScan& scan, const SensorModelConfig& sensor, int stride);
+  static LaserScan hitBeamSubset(const LaserScan& scan, const SensorModelConfig& sensor,
+                                 int stride);
 
  private:
   struct Workspace;
@@ -93,6 +93,7 @@ class ParticleFilter {
     Pose2 pose;
     double log_plausibility = 0.0;
     bool settled = false;
+    ScanMatcher::Match icp;  // the ICP from the prediction (the wide search's unturned start)
   };
   NominalMatch nominalMatch(const EvidentialGridMap& map, const Pose2& predicted,
                             const std::vector<MatchPoint>& endpoints, const LaserScan& hits,
@@ -109,7 +110,8 @@ class ParticleFilter {
   std::vector<WideCandidate> wideCandidates(const EvidentialGridMap& map, const Pose2& previous,
                                             const Pose2& increment,
                                             const std::vector<MatchPoint>& endpoints,
-                                            const ScanModels& models) const;
+                                            const ScanModels& models,
+                                            const NominalMatch& nominal) const;
   // chooseCandidate: the nominal pose or a candidate, by log plausibility on `map` (the beams of
   // `hits`) minus T · prior.
   Pose2 chooseCandidate(const EvidentialGridMap& map, const NominalMatch& nominal,

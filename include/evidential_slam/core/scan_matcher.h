@@ -43,12 +43,21 @@ class ScanMatcher {
   // m̃(o)(hit + o) and m̃(e)(free + o) both ≥ occupied_threshold; false when there is none.
   bool correspondence(const EvidentialGridMap& map, const CellIndex& hit, const CellIndex& free,
                       CellIndex* offset) const;
+  // ICP from `start` to convergence and score() there; score -1 (and pose `start`) when the first
+  // step finds too few matches.
+  struct Match {
+    Pose2 pose;
+    double score = -1.0;
+  };
+  Match matchFrom(const EvidentialGridMap& map, const Pose2& start,
+                  const std::vector<MatchPoint>& endpoints) const;
   // Multi-start ICP: from `predicted` turned by 0, ±heading_step, ... up to ±`heading_window`;
   // the converged pose with the best score() (in `best_score`; -1 when no start matches and
-  // `predicted` is returned).
+  // `predicted` is returned). `unturned`, if given, is matchFrom(map, predicted, endpoints),
+  // already computed: the unturned start is not run again.
   Pose2 search(const EvidentialGridMap& map, const Pose2& predicted,
-               const std::vector<MatchPoint>& endpoints, double heading_window,
-               double* best_score) const;
+               const std::vector<MatchPoint>& endpoints, double heading_window, double* best_score,
+               const Match* unturned = nullptr) const;
 
  private:
   // One ICP iteration; false when too few endpoints matched.
