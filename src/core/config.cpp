@@ -127,7 +127,10 @@ bool SlamConfig::isValid(std::string* why) const {
   return sensor.isValid(why) && motion.isValid(why) && matcher.isValid(why);
 }
 
-void applyRealRobotPreset(SlamConfig* config) { config->matcher.heading_window = 0.35; }
+void applyRealRobotPreset(SlamConfig* config) {
+  config->matcher.heading_window = 0.35;
+  config->sensor.forward_conflict_as_unknown = true;
+}
 
 namespace {
 
@@ -141,6 +144,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("free_gap", c.sensor.free_gap);
   visit("random_weight", c.sensor.random_weight);
   visit("forward_unknown_weight", c.sensor.forward_unknown_weight);
+  visit("forward_conflict_as_unknown", c.sensor.forward_conflict_as_unknown);
   visit("prior_occupied", c.sensor.prior_occupied);
   visit("usable_range", c.sensor.usable_range);
   visit("min_range", c.sensor.min_range);

@@ -16,18 +16,28 @@ constexpr float kNegligibleWindow = 1e-6f;
 constexpr double kLn2 = 0.69314718055994530942;
 
 // One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1})
-// (algorithm.md §3), with the share 1 - w of m̃Θ (w = forward_unknown_weight) moved to m̃e:
-// `passed` is the probability that the beam got past every cell so far, `collected` the
-// plausibility collected.
+// (algorithm.md §3), on the cell's masses with its conflict m(∅) moved to Θ if asked
+// (forward_conflict_as_unknown: m(o), m(e) scaled by 1 - m(∅) = e^{-λ}), then the share 1 - w of
+// m̃Θ (w = forward_unknown_weight) moved to m̃e: `passed` is the probability that the beam got past
+// every cell so far, `collected` the plausibility collected.
 struct ForwardPass {
-  explicit ForwardPass(double unknown_weight) : unknown_weight(unknown_weight) {}
+  explicit ForwardPass(const SensorModelConfig& config)
+      : unknown_weight(config.forward_unknown_weight),
+        conflict_as_unknown(config.forward_conflict_as_unknown) {}
   double unknown_weight;
+  bool conflict_as_unknown;
   double passed = 1.0;
   double collected = 0.0;
   bool stopped = false;
   // Visits the next cell outwards, at distance d with window g; stops past the hit.
   void visit(const Cell& c, double d, float g, double z) {
-    const double mo = c.occupied(), mu = unknown_weight * c.unknown();
+    double mo = c.occupied(), mu = c.unknown();
+    if (conflict_as_unknown && c.conflicted()) {
+      const double keep = std::exp(-static_cast<double>(c.lambda()));
+      mu += (1.0 - keep) * (mo + c.free());
+      mo *= keep;
+    }
+    mu *= unknown_weight;
     collected += passed * g * (mo + mu);
     if (d > z && g < kNegligibleWindow) {
       stopped = true;
@@ -196,7 +206,7 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
 
 double BeamModel::beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
                                    double z) const {
-  ForwardPass pass(config_.forward_unknown_weight);
+  ForwardPass pass(config_);
   for (size_t i = 0; i < n && !pass.stopped; ++i) {
     const double d = cells[i].distance;
     pass.visit(map.cell(cells[i].x, cells[i].y), d, hitWindow(z - d), z);
@@ -340,7 +350,7 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
   forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
     const double z = ray.range;
     const bool weigh = ray.hit && hit_beams++ % stride == 0;
-    ForwardPass pass(config_.forward_unknown_weight);
+    ForwardPass pass(config_);
     pass.stopped = !weigh;
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
       if (!pass.stopped) pass.visit(map->cell(cx, cy), d, hitWindow(z - d), z);

@@ -18,6 +18,8 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("free_gap", s.free_gap, c.free_gap);
   visit("random_weight", s.random_weight, c.random_weight);
   visit("forward_unknown_weight", s.forward_unknown_weight, c.forward_unknown_weight);
+  visit("forward_conflict_as_unknown", s.forward_conflict_as_unknown,
+        c.forward_conflict_as_unknown);
   visit("prior_occupied", s.prior_occupied, c.prior_occupied);
   visit("usable_range", s.usable_range, c.usable_range);
   visit("min_range", s.min_range, c.min_range);

@@ -33,6 +33,7 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_FALSE(c.along_track_prior);
   EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
   EXPECT_DOUBLE_EQ(c.sensor.forward_unknown_weight, 1.0);
+  EXPECT_FALSE(c.sensor.forward_conflict_as_unknown);
   EXPECT_DOUBLE_EQ(c.sensor.prior_occupied, 0.4);
   EXPECT_DOUBLE_EQ(c.sensor.hit_sigma, 0.025);
   EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.025);
@@ -48,6 +49,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_TRUE(c.isValid(&why)) << why;
   EXPECT_DOUBLE_EQ(c.matcher.heading_window, 0.35);
   EXPECT_EQ(SlamConfig().matcher.heading_window, 0.0);  // off by default
+  EXPECT_TRUE(c.sensor.forward_conflict_as_unknown);
+  EXPECT_FALSE(SlamConfig().sensor.forward_conflict_as_unknown);
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -112,7 +115,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 25u);
+  EXPECT_EQ(names.size(), 26u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;

@@ -36,6 +36,7 @@ SensorModelConfig paperConfig() {
   c.free_gap = 3.0;
   c.random_weight = 0.2;
   c.forward_unknown_weight = 1.0;  // the paper's disjunctive rule for m(Θ)
+  c.forward_conflict_as_unknown = false;
   c.prior_occupied = 0.4;
   c.usable_range = 20.0;
   c.min_range = 0.05;
@@ -108,6 +109,23 @@ TEST_F(ForwardModelTest, UnknownWeightDiscountsUnknownSpace) {
   fill(makeCell(0.0f, 1.0f));
   map_.mutableCell(kHitCell, 0) = makeCell(1.0f, 0.0f);
   EXPECT_NEAR(half.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.99784016, 1e-4);
+}
+
+// A certainly free hit cell with conflict λ = 0.5 (m(∅) = 1 - e^{-0.5} = 0.39346934), in free
+// space. Normalised (Dempster, the default) it is free: pl = r = 0.2. Read with its conflict as
+// ignorance (Yager): m(e) = e^{-0.5} = 0.60653066, m(Θ) = 0.39346934, so P_0 = g(0) · 0.39346934
+// = 0.99730020 · 0.39346934 = 0.39240705 and pl = 0.8 · 0.39240705 + 0.2 = 0.51392564.
+TEST_F(ForwardModelTest, ConflictReadAsIgnorance) {
+  fill(makeCell(0.0f, 1.0f));
+  map_.mutableCell(kHitCell, 0) = Cell::fromStored(0.0f, 1.0f, 0.5f);
+  EXPECT_NEAR(plausibility(kZ), 0.2, 1e-6);
+  SensorModelConfig config = paperConfig();
+  config.forward_conflict_as_unknown = true;
+  const BeamModel yager(config, kRes);
+  EXPECT_NEAR(yager.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.51392564, 1e-4);
+  // Cells without conflict read the same either way.
+  map_.mutableCell(kHitCell, 0) = makeCell(1.0f, 0.0f);
+  EXPECT_NEAR(yager.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.99784016, 1e-4);
 }
 
 // Beam ending in certainly free space: a_i = 0, b_i = 1, P_0 = g(z - z_max) = 0: pl = r = 0.2.
