@@ -69,8 +69,8 @@ class Cell {
   float free() const { return toMass(freeSteps()); }                                    // m̃(e)
   float unknown() const { return toMass(kMassSteps - occupiedSteps() - freeSteps()); }  // m̃(Θ)
   float lambda() const { return static_cast<float>(lambda_); }  // external conflict, nats
-  bool observed() const { return (occupiedSteps() | freeSteps()) != 0 || lambda_.x != 0; }
   bool conflicted() const { return lambda_.x != 0; }  // λ > 0: m(∅) > 0
+  bool observed() const { return (occupiedSteps() | freeSteps()) != 0 || conflicted(); }
   // m̃(e) = 1: a scan mass without m(o) leaves the cell as it is.
   bool isCertainlyFree() const { return freeSteps() == kMassSteps; }
 
