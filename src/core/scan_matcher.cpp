@@ -410,10 +410,8 @@ ScanMatcher::Match ScanMatcher::matchFrom(const EvidentialGridMap& map, const Po
                                           const std::vector<MatchPoint>& pts) const {
   Match m;
   m.pose = start;
-  if (pts.empty() || !icp(map, pts, &m.pose)) {
-    m.pose = start;
-    return m;
-  }
+  // icp() leaves the pose at `start` when its first step fails.
+  if (pts.empty() || !icp(map, pts, &m.pose)) return m;
   m.score = score(map, m.pose, pts);
   return m;
 }
