@@ -130,6 +130,7 @@ bool SlamConfig::isValid(std::string* why) const {
 void applyRealRobotPreset(SlamConfig* config) {
   config->matcher.heading_window = 0.35;
   config->sensor.forward_conflict_as_unknown = true;
+  config->along_track_prior = true;
 }
 
 namespace {

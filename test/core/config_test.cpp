@@ -41,7 +41,8 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_DOUBLE_EQ(c.sensor.free_gap, 3.0);
 }
 
-// The real-robot preset turns on the wide-basin match (±20° in 5° steps) and changes nothing else.
+// The real-robot preset turns on the wide-basin match (±20° in 5° steps), the forward model's
+// reading of conflict as ignorance and the along-track prior, and changes nothing else.
 TEST(ConfigTest, RealRobotPreset) {
   SlamConfig c;
   applyRealRobotPreset(&c);
@@ -51,6 +52,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_EQ(SlamConfig().matcher.heading_window, 0.0);  // off by default
   EXPECT_TRUE(c.sensor.forward_conflict_as_unknown);
   EXPECT_FALSE(SlamConfig().sensor.forward_conflict_as_unknown);
+  EXPECT_TRUE(c.along_track_prior);
+  EXPECT_FALSE(SlamConfig().along_track_prior);
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
