@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
+#include <set>
+#include <string>
 
 #include "evidential_slam/io/offline_runner.h"
 
@@ -92,6 +95,38 @@ TEST(OfflineArgs, Preset) {
   EXPECT_EQ(real.slam.matcher.heading_window, expected.matcher.heading_window);
   EXPECT_GT(real.slam.matcher.heading_window, 0.0);
   EXPECT_TRUE(real.slam.isValid(&error)) << error;
+}
+
+// config/real.yaml (the node's preset) sets what --preset real sets: each of its `name: value`
+// lines, applied by ROS name to the defaults, gives applyRealRobotPreset's value, and it names
+// each of the three fields the preset changes.
+TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
+  std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../config/real.yaml");
+  ASSERT_TRUE(in.good());
+  SlamConfig from_file;
+  std::set<std::string> names;
+  std::string line, why;
+  while (std::getline(in, line)) {
+    line = line.substr(0, line.find('#'));
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    const auto trim = [](std::string t) {
+      t.erase(0, t.find_first_not_of(" \t"));
+      t.erase(t.find_last_not_of(" \t") + 1);
+      return t;
+    };
+    const std::string name = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
+    EXPECT_TRUE(setSlamParameter(name, value, &from_file, &why)) << why;
+    names.insert(name);
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
+                                          "along_track_prior"}));
+  SlamConfig preset;
+  applyRealRobotPreset(&preset);
+  EXPECT_EQ(from_file.matcher.heading_window, preset.matcher.heading_window);
+  EXPECT_EQ(from_file.sensor.forward_conflict_as_unknown,
+            preset.sensor.forward_conflict_as_unknown);
+  EXPECT_EQ(from_file.along_track_prior, preset.along_track_prior);
 }
 
 // --param NAME=VALUE sets a SLAM parameter by its ROS name, over the preset, in order.
