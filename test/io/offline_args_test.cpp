@@ -106,15 +106,15 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   SlamConfig from_file;
   std::set<std::string> names;
   std::string line, why;
+  const auto trim = [](std::string t) {
+    t.erase(0, t.find_first_not_of(" \t"));
+    t.erase(t.find_last_not_of(" \t") + 1);
+    return t;
+  };
   while (std::getline(in, line)) {
     line = line.substr(0, line.find('#'));
     const size_t colon = line.find(':');
     if (colon == std::string::npos) continue;
-    const auto trim = [](std::string t) {
-      t.erase(0, t.find_first_not_of(" \t"));
-      t.erase(t.find_last_not_of(" \t") + 1);
-      return t;
-    };
     const std::string name = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
     EXPECT_TRUE(setSlamParameter(name, value, &from_file, &why)) << why;
     names.insert(name);
