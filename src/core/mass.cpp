@@ -9,6 +9,17 @@ namespace {
 constexpr double kMinNormaliser = 1e-12;
 }  // namespace
 
+namespace detail {
+const std::array<double, 1u << 15> kExpMinusHalf = [] {
+  std::array<double, 1u << 15> table{};
+  for (uint32_t bits = 0; bits < table.size(); ++bits) {
+    table[bits] = std::exp(-static_cast<double>(static_cast<float>(
+        Eigen::half(Eigen::half_impl::raw_uint16_to_half(static_cast<uint16_t>(bits))))));
+  }
+  return table;
+}();
+}  // namespace detail
+
 Mass Mass::make(double conflict, double occupied, double free) {
   Mass m;
   m.conflict = conflict;

@@ -33,7 +33,7 @@ struct ForwardPass {
   void visit(const Cell& c, double d, float g, double z) {
     double mo = c.occupied(), mu = c.unknown();
     if (conflict_as_unknown && c.conflicted()) {
-      const double keep = std::exp(-static_cast<double>(c.lambda()));
+      const double keep = c.oneMinusConflict();
       mu += (1.0 - keep) * (mo + c.free());
       mo *= keep;
     }
@@ -125,16 +125,14 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
       if (shared != nullptr && updateLeavesCell(shared->cells[k], block.mass[k])) return;
       tile = &map->mutableTile(block.tile_x, block.tile_y);
     }
-    float lambda_before = 0.0f;
-    const float conflict = updateCell(tile->cells[k], block.mass[k], &lambda_before);
+    ConflictIncrement increment;
+    const float conflict = updateCell(tile->cells[k], block.mass[k], &increment);
     tile->cellWritten(static_cast<int>(k));
     if (conflict <= 0.0f) return;
     // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
     // exp(-λ) K (exact increments; the stored λ is rounded).
-    added -= std::log1p(-std::min(conflict, kMaxUpdateConflict));
-    if (conflict_mass_added != nullptr) {
-      mass += std::exp(-static_cast<double>(lambda_before)) * conflict;
-    }
+    added += increment.lambda_added;
+    if (conflict_mass_added != nullptr) mass += increment.one_minus_conflict_before * conflict;
   });
   if (conflict_mass_added != nullptr) *conflict_mass_added = mass;
   return added;
@@ -160,7 +158,7 @@ double ScanAccumulator::openSpaceConflict(const EvidentialGridMap& map, int radi
     // The m(∅) applyTo will add to this cell: e^{-λ} K.
     const double conflict =
         static_cast<double>(c.occupied()) * m.free + static_cast<double>(c.free()) * m.occupied;
-    mass += std::exp(-static_cast<double>(c.lambda())) * conflict;
+    mass += c.oneMinusConflict() * conflict;
   });
   return mass;
 }

@@ -423,9 +423,10 @@ TEST(CellTest, CertainlyFreeCellIsAFixedPointOfMisses) {
   const Cell before = c;
   EXPECT_EQ(updateCell(c, ScanMass{0.0f, 0.8f}), 0.0f);
   EXPECT_TRUE(c == before);
-  float lambda_before = -1.0f;
-  EXPECT_NEAR(updateCell(c, ScanMass{0.63f, 0.0f}, &lambda_before), 0.63f, 1e-6f);
-  EXPECT_EQ(lambda_before, before.lambda());
+  ConflictIncrement increment;
+  EXPECT_NEAR(updateCell(c, ScanMass{0.63f, 0.0f}, &increment), 0.63f, 1e-6f);
+  EXPECT_EQ(increment.one_minus_conflict_before, std::exp(-static_cast<double>(before.lambda())));
+  EXPECT_NEAR(increment.lambda_added, -std::log(0.37), 1e-6);
   EXPECT_NEAR(c.lambda(), 0.25 - std::log(0.37), lambdaTolerance(1.244));
   EXPECT_EQ(c.free(), 1.0f);  // K normalises the hit away: m̃ stays (0, 1)
 }
@@ -434,13 +435,33 @@ TEST(CellTest, CertainlyFreeCellIsAFixedPointOfMisses) {
 // -ln(2^-24) = 24 ln 2 = 16.6355 nats instead of becoming infinite; the masses stay finite.
 TEST(CellTest, TotalConflictKeepsLambdaFinite) {
   Cell c = Cell::fromStored(1.0f, 0.0f, 0.0f);
-  float lambda_before = -1.0f;
-  EXPECT_EQ(updateCell(c, ScanMass{0.0f, 1.0f}, &lambda_before), 1.0f);
-  EXPECT_EQ(lambda_before, 0.0f);
+  ConflictIncrement increment;
+  increment.one_minus_conflict_before = -1.0;
+  EXPECT_EQ(updateCell(c, ScanMass{0.0f, 1.0f}, &increment), 1.0f);
+  EXPECT_EQ(increment.one_minus_conflict_before, 1.0);
+  EXPECT_NEAR(increment.lambda_added, 24.0 * std::log(2.0), 1e-5);
   EXPECT_TRUE(std::isfinite(c.lambda()));
   EXPECT_NEAR(c.lambda(), 24.0 * std::log(2.0), lambdaTolerance(16.6355));
   EXPECT_TRUE(std::isfinite(c.occupied()) && std::isfinite(c.free()));
   EXPECT_TRUE(std::isfinite(externalConflict(c)));
+}
+
+// The tabulated e^{-λ} is std::exp's double for every λ a cell can hold (a half float: every
+// finite non-negative one, checked exhaustively), and e^{-65504} = 0 at the clamp's maximum.
+TEST(CellTest, OneMinusConflictIsExpOfMinusLambda) {
+  EXPECT_EQ(Cell{}.oneMinusConflict(), 1.0);
+  EXPECT_EQ(Cell::fromStored(0.2f, 0.3f, 0.5f).oneMinusConflict(), std::exp(-0.5));
+  int checked = 0;
+  for (uint32_t bits = 0; bits < 0x7C00u; ++bits) {  // 0x7C00: +infinity
+    const float lambda = static_cast<float>(
+        Eigen::half(Eigen::half_impl::raw_uint16_to_half(static_cast<uint16_t>(bits))));
+    const Cell c = Cell::fromStored(0.0f, 0.0f, lambda);
+    ASSERT_EQ(c.lambda(), lambda);
+    ASSERT_EQ(c.oneMinusConflict(), std::exp(-static_cast<double>(lambda))) << lambda;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 0x7C00);
+  EXPECT_EQ(Cell::fromStored(0.0f, 0.0f, 1e9f).oneMinusConflict(), std::exp(-65504.0));
 }
 
 }  // namespace
