@@ -163,9 +163,11 @@ LaserScan ParticleFilter::hitBeamSubset(const LaserScan& scan, const SensorModel
   return out;
 }
 
-ParticleFilter::NominalMatch ParticleFilter::nominalMatch(
-    const EvidentialGridMap& map, const Pose2& predicted, const std::vector<MatchPoint>& endpoints,
-    const LaserScan& hits, const ScanModels& models, TracedScan* traced) const {
+ParticleFilter::NominalMatch ParticleFilter::nominalMatch(const EvidentialGridMap& map,
+                                                          const Pose2& predicted,
+                                                          const std::vector<MatchPoint>& endpoints,
+                                                          const LaserScan& hits,
+                                                          const ScanModels& models) const {
   NominalMatch m;
   m.icp = models.matcher.matchFrom(map, predicted, endpoints);
   m.pose = m.icp.pose;
@@ -176,17 +178,15 @@ ParticleFilter::NominalMatch ParticleFilter::nominalMatch(
     m.settled = true;
     return m;
   }
-  m.log_plausibility = wideLogPlausibility(map, m.pose, hits, models, traced);
+  m.log_plausibility = wideLogPlausibility(map, m.pose, hits, models);
   const double used = static_cast<double>(hits.ranges.size());
   m.settled = used > 0.0 && m.log_plausibility / used > kExplainedLogPlausibilityPerBeam;
   return m;
 }
 
 double ParticleFilter::wideLogPlausibility(const EvidentialGridMap& map, const Pose2& pose,
-                                           const LaserScan& hits, const ScanModels& models,
-                                           TracedScan* traced) const {
-  models.beam.traceScan(pose.compose(hits.sensor_pose), hits, traced);
-  return models.beam.scanLogPlausibility(map, *traced, 1);
+                                           const LaserScan& hits, const ScanModels& models) const {
+  return models.beam.logPlausibility(map, pose.compose(hits.sensor_pose), hits, 1);
 }
 
 std::vector<ParticleFilter::WideCandidate> ParticleFilter::wideCandidates(
@@ -216,8 +216,7 @@ std::vector<ParticleFilter::WideCandidate> ParticleFilter::wideCandidates(
 
 Pose2 ParticleFilter::chooseCandidate(const EvidentialGridMap& map, const NominalMatch& nominal,
                                       const std::vector<WideCandidate>& candidates,
-                                      const LaserScan& hits, const ScanModels& models,
-                                      TracedScan* traced) const {
+                                      const LaserScan& hits, const ScanModels& models) const {
   // Chosen by the forward model, the likelihood the weights use, tempered like the weights (T)
   // and with the candidate's prior.
   Pose2 best = nominal.pose;
@@ -225,7 +224,7 @@ Pose2 ParticleFilter::chooseCandidate(const EvidentialGridMap& map, const Nomina
   for (const WideCandidate& c : candidates) {
     const Pose2 d = nominal.pose.between(c.pose);
     if (std::hypot(d.x, d.y) < 0.05 && std::abs(d.theta) < 0.02) continue;  // the nominal one
-    const double pl = wideLogPlausibility(map, c.pose, hits, models, traced) -
+    const double pl = wideLogPlausibility(map, c.pose, hits, models) -
                       config_.likelihood_temperature * c.prior_nats;
     if (pl > best_pl) {
       best_pl = pl;
@@ -265,18 +264,17 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     const LaserScan hits = hitBeamSubset(scan, config_.sensor, matcher->matchStride(scan));
     correction.resize(firsts.size());
     std::vector<char> searched(firsts.size(), 0);
-    pool_->run(firsts.size(), [&](size_t h, int worker) {
+    pool_->run(firsts.size(), [&](size_t h, int) {
       const Particle& p = particles_[firsts[h]];
-      TracedScan* traced = &workspaces_[static_cast<size_t>(worker)]->traced;
       const Pose2 predicted = p.pose.compose(increment);
       // ICP from the prediction; unless that explains the scan, also the multi-start search.
-      const NominalMatch nominal = nominalMatch(p.map, predicted, endpoints, hits, models, traced);
+      const NominalMatch nominal = nominalMatch(p.map, predicted, endpoints, hits, models);
       Pose2 chosen = nominal.pose;
       if (!nominal.settled) {
         searched[h] = 1;
         chosen = chooseCandidate(
             p.map, nominal, wideCandidates(p.map, p.pose, increment, endpoints, models, nominal),
-            hits, models, traced);
+            hits, models);
       }
       correction[h] = predicted.between(chosen);
     });

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace evidential_slam {
 namespace {
@@ -243,7 +244,11 @@ void BeamModel::traverse(const Eigen::Vector2d& origin, double angle, double len
   double dist = ((cx + 0.5 - ox) * dx + (cy + 0.5 - oy) * dy) * resolution_;
   const double dist_step_x = step_x * dx * resolution_, dist_step_y = step_y * dy * resolution_;
   for (;;) {
-    fn(cx, cy, static_cast<float>(dist));
+    if constexpr (std::is_same_v<decltype(fn(cx, cy, 0.0f)), bool>) {
+      if (!fn(cx, cy, static_cast<float>(dist))) break;
+    } else {
+      fn(cx, cy, static_cast<float>(dist));
+    }
     if (t_max_x < t_max_y) {
       if (t_max_x > t_end) break;
       cx += step_x;
@@ -256,6 +261,25 @@ void BeamModel::traverse(const Eigen::Vector2d& origin, double angle, double len
       dist += dist_step_y;
     }
   }
+}
+
+double BeamModel::logPlausibility(const EvidentialGridMap& map, const Pose2& sensor_in_map,
+                                  const LaserScan& scan, int stride) const {
+  const Eigen::Vector2d origin = sensor_in_map.translation();
+  double sum = 0.0;
+  int hit_beams = 0;
+  uint64_t rays_bad = 0, rays_no_return = 0;
+  forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
+    if (!ray.hit || hit_beams++ % stride != 0) return;
+    const double z = ray.range;
+    ForwardPass pass(config_);
+    traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
+      pass.visit(map.cell(cx, cy), d, hitWindow(z - d), z);
+      return !pass.stopped;
+    });
+    sum += std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
+  });
+  return sum;
 }
 
 template <typename Fn>

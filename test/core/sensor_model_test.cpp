@@ -474,7 +474,8 @@ void expectSameCells(const EvidentialGridMap& a, const EvidentialGridMap& b, con
 
 // The filter's one-pass weighAndIntegrate gives what traceScan + scanLogPlausibility (on the map
 // before the scan) + integrateScan give, bit for bit, on a map that already holds the room seen
-// from elsewhere (so the weight and the conflict are not trivial), for beam strides 1 and 3.
+// from elsewhere (so the weight and the conflict are not trivial), for beam strides 1 and 3; so
+// does the wide-basin match's logPlausibility, which stores no traced cells.
 TEST(IntegrateScanTest, WeighAndIntegrateEqualsTheSeparateSteps) {
   const BeamModel model(paperConfig(), kRes);
   EvidentialGridMap base(kRes);
@@ -491,6 +492,7 @@ TEST(IntegrateScanTest, WeighAndIntegrateEqualsTheSeparateSteps) {
     EvidentialGridMap separate = base, fused = base;
     model.traceScan(second, scan, &traced);
     const double log_pl = model.scanLogPlausibility(separate, traced, stride);
+    EXPECT_EQ(model.logPlausibility(base, second, scan, stride), log_pl);
     ScanConflict conflict;
     const double bits = model.integrateScan(traced, &separate, &scratch, &conflict);
 

@@ -97,10 +97,10 @@ class ParticleFilter {
   };
   NominalMatch nominalMatch(const EvidentialGridMap& map, const Pose2& predicted,
                             const std::vector<MatchPoint>& endpoints, const LaserScan& hits,
-                            const ScanModels& models, TracedScan* traced) const;
+                            const ScanModels& models) const;
   // Σ log pl of the beams of `hits` (hitBeamSubset) from `pose` on `map`.
   double wideLogPlausibility(const EvidentialGridMap& map, const Pose2& pose, const LaserScan& hits,
-                             const ScanModels& models, TracedScan* traced) const;
+                             const ScanModels& models) const;
   // wideCandidates: ICP from the prediction turned by up to ±heading_window (the best score
   // of those starts) and from no and from reversed translation, with their prior (nats).
   struct WideCandidate {
@@ -116,7 +116,7 @@ class ParticleFilter {
   // `hits`) minus T · prior.
   Pose2 chooseCandidate(const EvidentialGridMap& map, const NominalMatch& nominal,
                         const std::vector<WideCandidate>& candidates, const LaserScan& hits,
-                        const ScanModels& models, TracedScan* traced) const;
+                        const ScanModels& models) const;
 
   SlamConfig config_;
   std::vector<Particle> particles_;

@@ -152,6 +152,10 @@ class BeamModel {
   double scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced,
                              int stride) const;
 
+  // traceScan then scanLogPlausibility, in one traversal that stores no cells (the same sum).
+  double logPlausibility(const EvidentialGridMap& map, const Pose2& sensor_in_map,
+                         const LaserScan& scan, int stride) const;
+
   // Traces every usable ray of `scan` from the sensor pose `sensor_in_map`.
   void traceScan(const Pose2& sensor_in_map, const LaserScan& scan, TracedScan* out) const;
   // Inverse model of a traced scan, fused within the scan by Dempster's rule, into `map` by the
@@ -198,7 +202,7 @@ class BeamModel {
   void forEachRay(const Pose2& sensor_in_map, const LaserScan& scan, uint64_t* rays_bad,
                   uint64_t* rays_no_return, Fn&& fn) const;
   // Amanatides-Woo traversal: fn(cx, cy, distance of the cell centre along the ray) for every cell
-  // the ray crosses, outwards, up to `length`.
+  // the ray crosses, outwards, up to `length`; stops early where an fn returning bool says false.
   template <typename Fn>
   void traverse(const Eigen::Vector2d& origin, double angle, double length, Fn&& fn) const;
   // The scan's evidence for one cell of a ray: clear mass, or the inverse model at `distance` from
