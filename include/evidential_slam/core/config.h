@@ -119,7 +119,7 @@ struct SlamConfig {
   // The weights also score the distance each particle went along the odometry's direction of
   // travel (alongTrackLogPrior, floored at the 3 nats of a missed or reversed translation), which
   // a corridor leaves unconstrained. On in applyRealRobotPreset: with conflict read as ignorance
-  // it took the real logs' misses (seeds 1-5) from 3 of 22 runs to 1 of 24 (aces-synth 0.44 m).
+  // it took the real logs' misses (seeds 1-5) from 3 of 23 runs to 1 of 25 (aces-synth 0.44 m).
   bool along_track_prior = false;
   // Particles that share a map and whose refined poses differ by less than this are one hypothesis:
   // they take the same pose and the scan is integrated once for all of them (0 disables).
