@@ -148,7 +148,8 @@ class BeamModel {
   // pl(z) of one beam over `cells` (ordered outwards from the sensor), algorithm.md §3.
   double beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
                           double z) const;
-  // Σ log pl over the hit beams of a traced scan (every `stride`-th beam).
+  // Σ log pl over the hit beams of a traced scan (every `stride`-th beam). The filter uses the
+  // one-pass forms below (logPlausibility, weighAndIntegrate); the tests check them against this.
   double scanLogPlausibility(const EvidentialGridMap& map, const TracedScan& traced,
                              int stride) const;
 
