@@ -25,7 +25,7 @@ double internalConflict(const Cell& c) {
   const double mo = c.occupied(), me = c.free();
   const double term_o = mo > 0.0 ? mo * std::log2(std::max(1.0 - me, mo)) : 0.0;
   const double term_e = me > 0.0 ? me * std::log2(std::max(1.0 - mo, me)) : 0.0;
-  return -std::exp(-static_cast<double>(c.lambda())) * (term_o + term_e);
+  return -c.oneMinusConflict() * (term_o + term_e);
 }
 
 double externalConflict(const Cell& c) { return c.lambda() / kLn2; }
