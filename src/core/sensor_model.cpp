@@ -32,6 +32,18 @@ struct ForwardPass {
   bool stopped = false;
   // Visits the next cell outwards, at distance d with window g; stops past the hit.
   void visit(const Cell& c, double d, float g, double z) {
+    if (g == 0.0f) {
+      // Outside the hit window (most cells of a beam): nothing is collected and Θ does not stop
+      // the beam, so only m̃(o) matters (the general form below gives the same doubles).
+      if (d > z) {
+        stopped = true;
+        return;
+      }
+      double mo = c.occupied();
+      if (conflict_as_unknown && c.conflicted()) mo *= c.oneMinusConflict();
+      passed *= 1.0 - mo;
+      return;
+    }
     double mo = c.occupied(), mu = c.unknown();
     if (conflict_as_unknown && c.conflicted()) {
       const double keep = c.oneMinusConflict();
@@ -54,6 +66,29 @@ struct ForwardPass {
   }
 };
 
+// Reads a map's cells along a ray, keeping the tile of the last read at hand (consecutive cells
+// of a ray mostly share one).
+class CellReader {
+ public:
+  explicit CellReader(const EvidentialGridMap& map) : map_(map) {}
+  const Cell& at(int cx, int cy) {
+    const int tx = cx >> EvidentialGridMap::kTileBits, ty = cy >> EvidentialGridMap::kTileBits;
+    if (tx != tile_x_ || ty != tile_y_) {
+      tile_x_ = tx;
+      tile_y_ = ty;
+      tile_ = map_.tile(tx, ty);
+    }
+    return tile_ != nullptr ? tile_->cells[EvidentialGridMap::cellInTile(cx, cy)] : kVacuous;
+  }
+
+ private:
+  static const Cell kVacuous;
+  const EvidentialGridMap& map_;
+  int tile_x_ = std::numeric_limits<int>::min(), tile_y_ = 0;  // no tile read yet
+  const EvidentialGridMap::Tile* tile_ = nullptr;
+};
+const Cell CellReader::kVacuous{};
+
 }  // namespace
 
 void TracedScan::clear() {
@@ -75,10 +110,29 @@ void ScanAccumulator::reset(const CellIndex& center, int half_size) {
   tile_x0_ = (center.x >> kTileBits) - reach;
   tile_y0_ = (center.y >> kTileBits) - reach;
   used_blocks_ = 0;
+  last_tile_x_ = std::numeric_limits<int>::min();  // no tile's x (tile coordinates are >> 5)
+  last_block_ = nullptr;
   if (++stamp_ == 0) {  // wrapped: forget every old stamp
     for (Slot& slot : slots_) slot.stamp = 0;
     stamp_ = 1;
   }
+}
+
+bool ScanAccumulator::findBlock(int tile_x, int tile_y) {
+  const int tx = tile_x - tile_x0_, ty = tile_y - tile_y0_;
+  if (static_cast<unsigned>(tx) >= static_cast<unsigned>(tiles_side_) ||
+      static_cast<unsigned>(ty) >= static_cast<unsigned>(tiles_side_)) {
+    return false;
+  }
+  Slot& slot = slots_[static_cast<size_t>(ty) * tiles_side_ + tx];
+  if (slot.stamp != stamp_) {
+    slot.stamp = stamp_;
+    slot.block = newBlock(tile_x, tile_y);
+  }
+  last_tile_x_ = tile_x;
+  last_tile_y_ = tile_y;
+  last_block_ = &blocks_[slot.block];
+  return true;
 }
 
 uint32_t ScanAccumulator::newBlock(int tile_x, int tile_y) {
@@ -273,8 +327,9 @@ double BeamModel::logPlausibility(const EvidentialGridMap& map, const Pose2& sen
     if (!ray.hit || hit_beams++ % stride != 0) return;
     const double z = ray.range;
     ForwardPass pass(config_);
+    CellReader cells(map);
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
-      pass.visit(map.cell(cx, cy), d, hitWindow(z - d), z);
+      pass.visit(cells.at(cx, cy), d, hitWindow(z - d), z);
       return !pass.stopped;
     });
     sum += std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
@@ -374,8 +429,9 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
     const bool weigh = ray.hit && hit_beams++ % stride == 0;
     ForwardPass pass(config_);
     pass.stopped = !weigh;
+    CellReader cells(*map);  // the map is read only: it is updated after the traversal
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
-      if (!pass.stopped) pass.visit(map->cell(cx, cy), d, hitWindow(z - d), z);
+      if (!pass.stopped) pass.visit(cells.at(cx, cy), d, hitWindow(z - d), z);
       addEvidence(scratch, cx, cy, d, z, ray.hit);
     });
     if (!weigh) return;

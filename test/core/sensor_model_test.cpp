@@ -154,6 +154,14 @@ TEST_F(ForwardModelTest, OccupiedCellBeforeTheHitLowersPlausibility) {
   // P_0 = 0.5 * 0.99995196 = 0.49997598, pl = 0.8 * 0.49997598 + 0.2 = 0.59998078.
   map_.mutableCell(kHitCell - 10, 0) = makeCell(0.5f, 0.5f);
   EXPECT_NEAR(plausibility(kZ), 0.59998078, 1e-3);
+  // The same cell with conflict λ = 0.5, read as ignorance: m(o) = 0.5 e^{-0.5} = 0.30326533,
+  // b_j = 1 - 0.30326533, P_0 = 0.69673467 * 0.99995196 = 0.69670120,
+  // pl = 0.8 * 0.69670120 + 0.2 = 0.75736096.
+  map_.mutableCell(kHitCell - 10, 0) = Cell::fromStored(0.5f, 0.5f, 0.5f);
+  SensorModelConfig config = paperConfig();
+  config.forward_conflict_as_unknown = true;
+  const BeamModel yager(config, kRes);
+  EXPECT_NEAR(yager.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.75736096, 1e-3);
 }
 
 // The recursion P_i = m̃(o) g_i + m̃(e) P_{i+1} + m̃(Θ)[g_i + P_{i+1} - g_i P_{i+1}] on mixed

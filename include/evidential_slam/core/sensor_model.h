@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "evidential_slam/core/config.h"
@@ -67,17 +68,11 @@ class ScanAccumulator {
   void reset(const CellIndex& center, int half_size);
   // Dempster-fuses `m` into the scan's mass of cell (x, y); false if outside the window.
   bool add(int x, int y, const ScanMass& m) {
-    const int tx = (x >> kTileBits) - tile_x0_, ty = (y >> kTileBits) - tile_y0_;
-    if (static_cast<unsigned>(tx) >= static_cast<unsigned>(tiles_side_) ||
-        static_cast<unsigned>(ty) >= static_cast<unsigned>(tiles_side_)) {
-      return false;
+    // Consecutive cells of a ray mostly lie in one tile: its block is kept at hand.
+    if ((x >> kTileBits) != last_tile_x_ || (y >> kTileBits) != last_tile_y_) {
+      if (!findBlock(x >> kTileBits, y >> kTileBits)) return false;
     }
-    Slot& slot = slots_[static_cast<size_t>(ty) * tiles_side_ + tx];
-    if (slot.stamp != stamp_) {
-      slot.stamp = stamp_;
-      slot.block = newBlock(tx + tile_x0_, ty + tile_y0_);
-    }
-    Block& block = blocks_[slot.block];
+    Block& block = *last_block_;
     const int k = EvidentialGridMap::cellInTile(x, y);
     uint64_t& word = block.touched[k >> 6];
     const uint64_t bit = uint64_t{1} << (k & 63);
@@ -110,6 +105,9 @@ class ScanAccumulator {
     std::array<ScanMass, kTileCells> mass;
   };
   uint32_t newBlock(int tile_x, int tile_y);
+  // Makes the block of tile (tile_x, tile_y) the one at hand (created at its first cell); false
+  // outside the window.
+  bool findBlock(int tile_x, int tile_y);
   // fn(block, k) for every touched cell k of every block of this scan, block by block.
   template <typename Fn>
   void forEachTouched(Fn&& fn) const;
@@ -122,6 +120,9 @@ class ScanAccumulator {
   std::vector<Slot> slots_;
   std::vector<Block> blocks_;  // the first used_blocks_ belong to the current scan
   uint32_t used_blocks_ = 0;
+  // The block add() last wrote to and its tile (none after reset()).
+  int last_tile_x_ = std::numeric_limits<int>::min(), last_tile_y_ = 0;
+  Block* last_block_ = nullptr;
 };
 
 class BeamModel {
