@@ -262,7 +262,7 @@ bool ScanMatcher::correspondence(const EvidentialGridMap& map, const CellIndex& 
 }
 
 bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
-                          Pose2* pose) const {
+                          std::vector<Correspondence>* correspondences, Pose2* pose) const {
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
   const bool to_line = config_.point_to_line;
   CorrespondenceSearch targets(map, static_cast<float>(config_.occupied_threshold), search_cells_,
@@ -285,14 +285,24 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     h.noalias() += w * jacobian * jacobian.transpose();
     g.noalias() += (w * residual) * jacobian;
   };
-  for (const MatchPoint& p : pts) {
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const MatchPoint& p = pts[i];
     const double qx = pose->x + c * p.hit.x() - s * p.hit.y();
     const double qy = pose->y + s * p.hit.x() + c * p.hit.y();
     const CellIndex q = map.worldToCell(qx, qy);
     const CellIndex f = map.worldToCell(pose->x + c * p.free.x() - s * p.free.y(),
                                         pose->y + s * p.free.x() + c * p.free.y());
-    CellIndex o;
-    if (!targets.nearest(q, f, &o)) continue;
+    Correspondence& known = (*correspondences)[i];
+    if (!(known.hit == q) || !(known.free == f)) {
+      known.hit = q;
+      known.free = f;
+      known.found = targets.nearest(q, f, &known.offset);
+      known.has_normal =
+          known.found && to_line &&
+          targets.normal(CellIndex{q.x + known.offset.x, q.y + known.offset.y}, &known.normal);
+    }
+    if (!known.found) continue;
+    const CellIndex& o = known.offset;
     const double yx = (q.x + o.x + 0.5) * resolution_, yy = (q.y + o.y + 0.5) * resolution_;
     const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
     const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
@@ -300,8 +310,8 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     if (to_line) {
       // ∂q/∂dθ about the robot: the lever arm turned by 90°.
       const double ax = -(qy - pose->y), ay = qx - pose->x;
-      Eigen::Vector2d n = Eigen::Vector2d::Zero();
-      if (targets.normal(CellIndex{q.x + o.x, q.y + o.y}, &n)) {
+      if (known.has_normal) {
+        const Eigen::Vector2d& n = known.normal;
         addResidual({n.x(), n.y(), n.x() * ax + n.y() * ay}, n.x() * (qx - yx) + n.y() * (qy - yy),
                     w);
       } else {
@@ -383,9 +393,10 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
 
 bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
                       Pose2* pose) const {
+  std::vector<Correspondence> correspondences(pts.size());
   for (int it = 0; it < config_.icp_iterations; ++it) {
     const Pose2 before = *pose;
-    if (!icpStep(map, pts, pose)) {
+    if (!icpStep(map, pts, &correspondences, pose)) {
       *pose = before;
       return it > 0;  // at the first step: the map does not explain this scan (yet)
     }

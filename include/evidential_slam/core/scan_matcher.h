@@ -4,6 +4,7 @@
 // on a smooth endpoint score for sub-cell precision.
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -60,9 +61,21 @@ class ScanMatcher {
                const Match* unturned = nullptr) const;
 
  private:
-  // One ICP iteration; false when too few endpoints matched.
+  // What ICP's correspondence search found for one endpoint at the last iteration: it depends on
+  // the endpoint's two cells only, so an iteration that leaves them where they were (most do, once
+  // the steps are below a cell) reuses it.
+  struct Correspondence {
+    CellIndex hit{std::numeric_limits<int>::min(), 0};  // none yet
+    CellIndex free;
+    bool found = false;
+    CellIndex offset;
+    bool has_normal = false;  // point to line only
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+  };
+  // One ICP iteration; false when too few endpoints matched. `correspondences`: one per endpoint,
+  // kept between the iterations of one ICP run.
   bool icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
-               Pose2* pose) const;
+               std::vector<Correspondence>* correspondences, Pose2* pose) const;
   // ICP to convergence from `start`; false when the first step finds too few matches.
   bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
            Pose2* pose) const;
