@@ -7,7 +7,8 @@ namespace evidential_slam {
 
 const Cell EvidentialGridMap::kVacuousCell{};
 
-EvidentialGridMap::Tile::Tile(const Tile& other) : cells(other.cells) {
+EvidentialGridMap::Tile::Tile(const Tile& other)
+    : cells(other.cells), may_hold_occupied_(other.may_hold_occupied_) {
   // The source is shared and not written meanwhile; its rows may be being built by a reader, in
   // which case the clone builds its own when asked.
   if (other.rows_state_.load(std::memory_order_acquire) == kRowsReady) {

@@ -16,6 +16,38 @@ constexpr double kTableStepsPerSigma = 64.0;
 constexpr float kNegligibleWindow = 1e-6f;
 constexpr double kLn2 = 0.69314718055994530942;
 
+// Reads a map's cells along a ray, keeping the tile of the last read at hand (consecutive cells
+// of a ray mostly share one).
+class CellReader {
+ public:
+  explicit CellReader(const EvidentialGridMap& map) : map_(map) {}
+  const Cell& at(int cx, int cy) {
+    const EvidentialGridMap::Tile* t = tileOf(cx, cy);
+    return t != nullptr ? t->cells[EvidentialGridMap::cellInTile(cx, cy)] : kVacuous;
+  }
+  // False when the cell certainly holds no m̃(o) (Tile::mayHoldOccupied), without reading it.
+  bool mayHoldOccupied(int cx, int cy) {
+    const EvidentialGridMap::Tile* t = tileOf(cx, cy);
+    return t != nullptr && t->mayHoldOccupied(EvidentialGridMap::cellInTile(cx, cy));
+  }
+
+ private:
+  const EvidentialGridMap::Tile* tileOf(int cx, int cy) {
+    const int tx = cx >> EvidentialGridMap::kTileBits, ty = cy >> EvidentialGridMap::kTileBits;
+    if (tx != tile_x_ || ty != tile_y_) {
+      tile_x_ = tx;
+      tile_y_ = ty;
+      tile_ = map_.tile(tx, ty);
+    }
+    return tile_;
+  }
+  static const Cell kVacuous;
+  const EvidentialGridMap& map_;
+  int tile_x_ = std::numeric_limits<int>::min(), tile_y_ = 0;  // no tile read yet
+  const EvidentialGridMap::Tile* tile_ = nullptr;
+};
+const Cell CellReader::kVacuous{};
+
 // One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1})
 // (algorithm.md §3), on the cell's masses with its conflict m(∅) moved to Θ if asked
 // (forward_conflict_as_unknown: m(o), m(e) scaled by 1 - m(∅) = e^{-λ}), then the share 1 - w of
@@ -58,6 +90,12 @@ struct ForwardPass {
     }
     passed *= 1.0 - mo - mu * g;
   }
+  // visit() of cell (cx, cy) read through `cells`; a cell that holds no m̃(o) outside the hit
+  // window changes nothing (`passed` times 1) and is not read.
+  void visit(CellReader& cells, int cx, int cy, double d, float g, double z) {
+    if (g == 0.0f && d <= z && !cells.mayHoldOccupied(cx, cy)) return;
+    visit(cells.at(cx, cy), d, g, z);
+  }
   // pl(z) = (1 - r) S + r, S completed by the virtual obstacle at z_max (window `tail_window`)
   // unless the pass stopped.
   double plausibility(float tail_window, double r) const {
@@ -65,29 +103,6 @@ struct ForwardPass {
     return (1.0 - r) * s + r;
   }
 };
-
-// Reads a map's cells along a ray, keeping the tile of the last read at hand (consecutive cells
-// of a ray mostly share one).
-class CellReader {
- public:
-  explicit CellReader(const EvidentialGridMap& map) : map_(map) {}
-  const Cell& at(int cx, int cy) {
-    const int tx = cx >> EvidentialGridMap::kTileBits, ty = cy >> EvidentialGridMap::kTileBits;
-    if (tx != tile_x_ || ty != tile_y_) {
-      tile_x_ = tx;
-      tile_y_ = ty;
-      tile_ = map_.tile(tx, ty);
-    }
-    return tile_ != nullptr ? tile_->cells[EvidentialGridMap::cellInTile(cx, cy)] : kVacuous;
-  }
-
- private:
-  static const Cell kVacuous;
-  const EvidentialGridMap& map_;
-  int tile_x_ = std::numeric_limits<int>::min(), tile_y_ = 0;  // no tile read yet
-  const EvidentialGridMap::Tile* tile_ = nullptr;
-};
-const Cell CellReader::kVacuous{};
 
 }  // namespace
 
@@ -329,7 +344,7 @@ double BeamModel::logPlausibility(const EvidentialGridMap& map, const Pose2& sen
     ForwardPass pass(config_);
     CellReader cells(map);
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
-      pass.visit(cells.at(cx, cy), d, hitWindow(z - d), z);
+      pass.visit(cells, cx, cy, d, hitWindow(z - d), z);
       return !pass.stopped;
     });
     sum += std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
@@ -431,7 +446,7 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
     pass.stopped = !weigh;
     CellReader cells(*map);  // the map is read only: it is updated after the traversal
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
-      if (!pass.stopped) pass.visit(cells.at(cx, cy), d, hitWindow(z - d), z);
+      if (!pass.stopped) pass.visit(cells, cx, cy, d, hitWindow(z - d), z);
       addEvidence(scratch, cx, cy, d, z, ray.hit);
     });
     if (!weigh) return;

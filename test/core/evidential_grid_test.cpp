@@ -333,5 +333,35 @@ TEST(EvidentialGridTest, OccupiedRowsFollowTheCells) {
   EXPECT_EQ(a.tile(-1, -1)->occupiedRows(0.25f, &scratch)[1], 1u << 1);
 }
 
+// A tile's may-hold-occupied bits: clear on a new tile, following m̃(o) > 0 through cellWritten,
+// copied into a clone, and set (conservatively) by mutableCell, whose caller writes afterwards.
+TEST(EvidentialGridTest, MayHoldOccupiedBitsFollowWrittenCells) {
+  EvidentialGridMap a(0.05);
+  EvidentialGridMap::Tile& tile = a.mutableTile(0, 0);
+  for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) EXPECT_FALSE(tile.mayHoldOccupied(k));
+  tile.cells[5] = Cell::fromStored(0.3f, 0.2f, 0.0f);
+  tile.cellWritten(5);
+  tile.cells[40] = Cell::fromStored(1e-6f, 0.9f, 1.0f);
+  tile.cellWritten(40);
+  tile.cells[41] = Cell::fromStored(0.0f, 0.9f, 1.0f);  // conflict but no m̃(o)
+  tile.cellWritten(41);
+  EXPECT_TRUE(tile.mayHoldOccupied(5));
+  EXPECT_TRUE(tile.mayHoldOccupied(40));
+  EXPECT_FALSE(tile.mayHoldOccupied(41));
+  tile.cells[5] = Cell::fromStored(0.0f, 0.9f, 0.0f);  // the occupied mass is gone
+  tile.cellWritten(5);
+  EXPECT_FALSE(tile.mayHoldOccupied(5));
+
+  EvidentialGridMap b = a;
+  EvidentialGridMap::Tile& clone = b.mutableTile(0, 0);
+  ASSERT_NE(&clone, &tile);
+  EXPECT_TRUE(clone.mayHoldOccupied(40));
+  EXPECT_FALSE(clone.mayHoldOccupied(5));
+
+  a.mutableCell(7, 0);  // vacuous still, but its caller may write any mass
+  EXPECT_TRUE(a.tile(0, 0)->mayHoldOccupied(7));
+  EXPECT_FALSE(b.tile(0, 0)->mayHoldOccupied(7));
+}
+
 }  // namespace
 }  // namespace evidential_slam

@@ -43,7 +43,7 @@ class EvidentialGridMap {
   class Tile {
    public:
     Tile() = default;
-    // A clone copies the cells and, when built, the occupied rows.
+    // A clone copies the cells, their may-hold-occupied bits and, when built, the occupied rows.
     Tile(const Tile& other);
     Tile& operator=(const Tile&) = delete;
 
@@ -58,11 +58,25 @@ class EvidentialGridMap {
     // for another threshold, gets them built in `scratch`.
     using Rows = std::array<uint32_t, kTileSize>;
     const Rows& occupiedRows(float threshold, Rows* scratch) const;
-    // Whoever writes cells of a tile it owns (mutableTile) keeps the rows true: cellWritten(k)
-    // after writing cells[k], or dropOccupiedRows() after writing any cells.
+    // One bit per cell whose m̃(o) may be above 0, a word per row, always kept (a clear bit: the
+    // cell holds no occupied mass). Far from a beam's measured range the forward model needs only
+    // a cell's m̃(o), so it reads these 128 bytes instead of the cells where that is 0: most of
+    // the free space, never hit.
+    bool mayHoldOccupied(int k) const {
+      return ((may_hold_occupied_[static_cast<size_t>(k >> kTileBits)] >> (k & (kTileSize - 1))) &
+              1u) != 0;
+    }
+    // Whoever writes cells of a tile it owns (mutableTile) keeps the rows and bits true:
+    // cellWritten(k) after writing cells[k]; after writing cells otherwise, dropOccupiedRows() and
+    // markMayHoldOccupied(k) for each.
+    void markMayHoldOccupied(int k) {
+      may_hold_occupied_[static_cast<size_t>(k >> kTileBits)] |= 1u << (k & (kTileSize - 1));
+    }
     void cellWritten(int k) {
-      if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
       const uint32_t bit = 1u << (k & (kTileSize - 1));
+      uint32_t& any = may_hold_occupied_[static_cast<size_t>(k >> kTileBits)];
+      any = cells[static_cast<size_t>(k)].occupied() > 0.0f ? any | bit : any & ~bit;
+      if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
       uint32_t& row = rows_[static_cast<size_t>(k >> kTileBits)];
       row = isTarget(cells[static_cast<size_t>(k)], rows_threshold_) ? row | bit : row & ~bit;
     }
@@ -74,6 +88,7 @@ class EvidentialGridMap {
     enum : int { kRowsNone = 0, kRowsBuilding = 1, kRowsReady = 2 };
     void buildOccupiedRows(float threshold, Rows* rows) const;
 
+    Rows may_hold_occupied_{};
     mutable std::atomic<int> rows_state_{kRowsNone};
     mutable float rows_threshold_ = 0.0f;
     mutable Rows rows_{};
@@ -121,10 +136,12 @@ class EvidentialGridMap {
     }
     return mutableTileSlow(tx, ty);
   }
-  // For writing one cell (drops the tile's occupied rows: see Tile::cellWritten).
+  // For writing one cell (drops the tile's occupied rows and sets the cell's may-hold-occupied
+  // bit: see Tile::cellWritten).
   Cell& mutableCell(int cx, int cy) {
     Tile& tile = mutableTile(cx >> kTileBits, cy >> kTileBits);
     tile.dropOccupiedRows();
+    tile.markMayHoldOccupied(cellInTile(cx, cy));
     return tile.cells[cellInTile(cx, cy)];
   }
 
