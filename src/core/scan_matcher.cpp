@@ -238,10 +238,17 @@ double ScanMatcher::score(const EvidentialGridMap& map, const Pose2& pose,
     // same maximum, bit for bit: float rounding is monotone).
     // Both 3x3 blocks are read through their tiles when each lies in one tile (most do).
     const Neighbourhood hit_cells(map, ix, iy), free_cells(map, jx, jy);
+    // Squared distances from the endpoint to the centres of the columns and rows ix - 1 .. ix + 1
+    // and iy - 1 .. iy + 1.
+    double dx2[3], dy2[3];
+    for (int a = -1; a <= 1; ++a) {
+      const double ddx = ix + a + 0.5 - fx, ddy = iy + a + 0.5 - fy;
+      dx2[a + 1] = ddx * ddx;
+      dy2[a + 1] = ddy * ddy;
+    }
     float best = 0.0f;
     for (const CellIndex& o : kScoreNeighbours) {
-      const double ddx = ix + o.x + 0.5 - fx, ddy = iy + o.y + 0.5 - fy;
-      const size_t k = static_cast<size_t>((ddx * ddx + ddy * ddy) * kernel_scale_);
+      const size_t k = static_cast<size_t>((dx2[o.x + 1] + dy2[o.y + 1]) * kernel_scale_);
       const float kernel = kernel_[std::min(k, kernel_.size() - 1)];
       if (kernel <= best) continue;
       float occ = hit_cells.at(o.x, o.y).occupied();
