@@ -72,19 +72,24 @@ class EvidentialGridMap {
     void markMayHoldOccupied(int k) {
       may_hold_occupied_[static_cast<size_t>(k >> kTileBits)] |= 1u << (k & (kTileSize - 1));
     }
+    // (A word is stored only when its bit changes, which is rare: consecutive cells of a row then
+    // do not wait for each other's store.)
     void cellWritten(int k) {
-      const uint32_t bit = 1u << (k & (kTileSize - 1));
-      uint32_t& any = may_hold_occupied_[static_cast<size_t>(k >> kTileBits)];
-      any = cells[static_cast<size_t>(k)].occupied() > 0.0f ? any | bit : any & ~bit;
+      const int x = k & (kTileSize - 1);
+      const size_t y = static_cast<size_t>(k >> kTileBits);
+      const Cell& cell = cells[static_cast<size_t>(k)];
+      setBit(&may_hold_occupied_[y], x, cell.occupied() > 0.0f);
       if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
-      uint32_t& row = rows_[static_cast<size_t>(k >> kTileBits)];
-      row = isTarget(cells[static_cast<size_t>(k)], rows_threshold_) ? row | bit : row & ~bit;
+      setBit(&rows_[y], x, isTarget(cell, rows_threshold_));
     }
     // The rows' bit of a cell: m̃(o) at or above the threshold.
     static bool isTarget(const Cell& c, float threshold) { return c.occupied() >= threshold; }
     void dropOccupiedRows() { rows_state_.store(kRowsNone, std::memory_order_release); }
 
    private:
+    static void setBit(uint32_t* word, int x, bool value) {
+      if ((((*word >> x) & 1u) != 0) != value) *word ^= 1u << x;
+    }
     enum : int { kRowsNone = 0, kRowsBuilding = 1, kRowsReady = 2 };
     void buildOccupiedRows(float threshold, Rows* rows) const;
 
