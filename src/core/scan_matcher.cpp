@@ -24,18 +24,16 @@ class Neighbourhood {
   }
   const Cell& at(int dx, int dy) const {
     if (!in_one_tile_) return map_.cell(cx_ + dx, cy_ + dy);
-    if (tile_ == nullptr) return kVacuous;
+    if (tile_ == nullptr) return EvidentialGridMap::vacuousCell();
     return tile_->cells[EvidentialGridMap::cellInTile(cx_ + dx, cy_ + dy)];
   }
 
  private:
-  static const Cell kVacuous;
   const EvidentialGridMap& map_;
   int cx_, cy_;
   bool in_one_tile_ = false;
   const EvidentialGridMap::Tile* tile_ = nullptr;
 };
-const Cell Neighbourhood::kVacuous{};
 
 // ICP's correspondence search on one map: for an endpoint in cell `hit` probed free in cell
 // `free`, the nearest offset o within `radius` cells (ties: smaller dy, then smaller dx) with

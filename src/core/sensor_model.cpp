@@ -23,7 +23,8 @@ class CellReader {
   explicit CellReader(const EvidentialGridMap& map) : map_(map) {}
   const Cell& at(int cx, int cy) {
     const EvidentialGridMap::Tile* t = tileOf(cx, cy);
-    return t != nullptr ? t->cells[EvidentialGridMap::cellInTile(cx, cy)] : kVacuous;
+    return t != nullptr ? t->cells[EvidentialGridMap::cellInTile(cx, cy)]
+                        : EvidentialGridMap::vacuousCell();
   }
   // False when the cell certainly holds no m̃(o) (Tile::mayHoldOccupied), without reading it.
   bool mayHoldOccupied(int cx, int cy) {
@@ -41,12 +42,10 @@ class CellReader {
     }
     return tile_;
   }
-  static const Cell kVacuous;
   const EvidentialGridMap& map_;
   int tile_x_ = std::numeric_limits<int>::min(), tile_y_ = 0;  // no tile read yet
   const EvidentialGridMap::Tile* tile_ = nullptr;
 };
-const Cell CellReader::kVacuous{};
 
 // One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1})
 // (algorithm.md §3), on the cell's masses with its conflict m(∅) moved to Θ if asked

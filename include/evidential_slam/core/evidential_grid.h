@@ -109,6 +109,8 @@ class EvidentialGridMap {
   }
   Eigen::Vector2d cellCenter(const CellIndex& c) const;
 
+  // The cell every unallocated position reads as (all masses on Θ).
+  static const Cell& vacuousCell() { return kVacuousCell; }
   // Read access; cells outside the allocated area are vacuous.
   const Cell& cell(int cx, int cy) const {
     const int tx = (cx >> kTileBits) - tile_x0_;
