@@ -121,6 +121,12 @@ bool SlamConfig::isValid(std::string* why) const {
                     "resample_threshold must be in [0, 1]")
            .require(nonNegativeFinite(merge_distance), "merge_distance must be >= 0")
            .require(nonNegativeFinite(merge_angle), "merge_angle must be >= 0")
+           .require(constrained_merge_ratio >= 0.0 && constrained_merge_ratio <= 1.0,
+                    "constrained_merge_ratio must be in [0, 1] (0 = off)")
+           .require(nonNegativeFinite(constrained_merge_distance),
+                    "constrained_merge_distance must be >= 0")
+           .require(nonNegativeFinite(constrained_merge_angle),
+                    "constrained_merge_angle must be >= 0")
            .ok()) {
     return false;
   }
@@ -131,6 +137,7 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->matcher.heading_window = 0.35;
   config->sensor.forward_conflict_as_unknown = true;
   config->along_track_prior = true;
+  config->constrained_merge_ratio = 0.5;
 }
 
 namespace {
@@ -160,6 +167,9 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("likelihood_temperature", c.likelihood_temperature);
   visit("resample_threshold", c.resample_threshold);
   visit("along_track_prior", c.along_track_prior);
+  visit("constrained_merge_ratio", c.constrained_merge_ratio);
+  visit("constrained_merge_distance", c.constrained_merge_distance);
+  visit("constrained_merge_angle", c.constrained_merge_angle);
   visit("scan_matching", c.matcher.enabled);
   visit("matcher_search_radius", c.matcher.search_radius);
   visit("matcher_point_to_line", c.matcher.point_to_line);

@@ -250,6 +250,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       config_.matcher.enabled && config_.matcher.heading_window > 0.0 && !endpoints.empty();
   std::vector<size_t> hypothesis_of(n, 0);
   std::vector<Pose2> correction;
+  // Per hypothesis: the scan fixes its matched position every way (constrained_merge_ratio).
+  std::vector<char> constrained;
   last_wide_matches_ = 0;
   if (search) {
     std::vector<size_t> firsts;
@@ -263,6 +265,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     // the same ranking).
     const LaserScan hits = hitBeamSubset(scan, config_.sensor, matcher->matchStride(scan));
     correction.resize(firsts.size());
+    constrained.assign(firsts.size(), 0);
     std::vector<char> searched(firsts.size(), 0);
     pool_->run(firsts.size(), [&](size_t h, int) {
       const Particle& p = particles_[firsts[h]];
@@ -277,6 +280,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
             hits, models);
       }
       correction[h] = predicted.between(chosen);
+      constrained[h] = config_.constrained_merge_ratio > 0.0 &&
+                       matcher->translationConstraint(p.map, chosen, endpoints) >=
+                           config_.constrained_merge_ratio;
     });
     for (const char s : searched) last_wide_matches_ += s != 0 ? 1 : 0;
   }
@@ -299,17 +305,20 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   });
 
   // 3. Particles with the same map and (within the matcher's precision) the same pose are one
-  //    hypothesis: weight and integrate the scan once for the group.
+  //    hypothesis: weight and integrate the scan once for the group. Where the scan fixes the
+  //    hypothesis's position every way, within the wider constrained_merge_distance / _angle.
   std::vector<size_t> group_of(n);
   std::vector<size_t> leaders;
   for (size_t k = 0; k < n; ++k) {
+    const bool wide = search && constrained[hypothesis_of[k]] != 0;
+    const double max_distance = wide ? config_.constrained_merge_distance : config_.merge_distance;
+    const double max_angle = wide ? config_.constrained_merge_angle : config_.merge_angle;
     size_t g = leaders.size();
     for (size_t i = 0; i < leaders.size(); ++i) {
       const size_t l = leaders[i];
       if (particles_[l].map_id != particles_[k].map_id) continue;
       const Pose2 d = proposed[l].between(proposed[k]);
-      if (std::hypot(d.x, d.y) <= config_.merge_distance &&
-          std::abs(d.theta) <= config_.merge_angle) {
+      if (std::hypot(d.x, d.y) <= max_distance && std::abs(d.theta) <= max_angle) {
         g = i;
         break;
       }

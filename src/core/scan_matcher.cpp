@@ -267,11 +267,14 @@ bool ScanMatcher::correspondence(const EvidentialGridMap& map, const CellIndex& 
 }
 
 bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
-                          std::vector<Correspondence>* correspondences, Pose2* pose) const {
+                          std::vector<Correspondence>* correspondences, Pose2* pose,
+                          Eigen::Matrix2d* translation_information) const {
   const double c = std::cos(pose->theta), s = std::sin(pose->theta);
   const bool to_line = config_.point_to_line;
+  // The information wants the targets' normals whichever residual ICP uses.
+  const bool with_normals = to_line || translation_information != nullptr;
   CorrespondenceSearch targets(map, static_cast<float>(config_.occupied_threshold), search_cells_,
-                               row_half_width_, to_line);
+                               row_half_width_, with_normals);
   // Point to point: weighted sums for the closed-form 2-D rigid alignment of matched pairs
   // (q -> y). Point to line: the Gauss-Newton normal equations H δ = -g of the linearised
   // residuals n·(q - y) in δ = (tx, ty, dθ), rotating about the robot (point to point where the
@@ -303,7 +306,7 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
       known.free = f;
       known.found = targets.nearest(q, f, &known.offset);
       known.has_normal =
-          known.found && to_line &&
+          known.found && with_normals &&
           targets.normal(CellIndex{q.x + known.offset.x, q.y + known.offset.y}, &known.normal);
     }
     if (!known.found) continue;
@@ -312,6 +315,13 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
     const double d2 = (yx - qx) * (yx - qx) + (yy - qy) * (yy - qy);
     const double w = 1.0 / (1.0 + d2 / (kRobustScale * kRobustScale));
     ++matched;
+    if (translation_information != nullptr) {
+      if (known.has_normal) {
+        translation_information->noalias() += w * known.normal * known.normal.transpose();
+      } else {
+        translation_information->diagonal().array() += w;
+      }
+    }
     if (to_line) {
       // ∂q/∂dθ about the robot: the lever arm turned by 90°.
       const double ax = -(qy - pose->y), ay = qx - pose->x;
@@ -359,6 +369,20 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
   *pose = Pose2(dc * pose->x - ds * pose->y + tx, ds * pose->x + dc * pose->y + ty,
                 pose->theta + dtheta);
   return true;
+}
+
+double ScanMatcher::translationConstraint(const EvidentialGridMap& map, const Pose2& pose,
+                                          const std::vector<MatchPoint>& pts) const {
+  std::vector<Correspondence> correspondences(pts.size());
+  Pose2 stepped = pose;
+  Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+  if (!icpStep(map, pts, &correspondences, &stepped, &info)) return 0.0;
+  // Eigenvalues of the symmetric 2x2: half the trace ± the root.
+  const double half_trace = 0.5 * info.trace();
+  if (!(half_trace > 0.0)) return 0.0;
+  const double half_diff = 0.5 * (info(0, 0) - info(1, 1));
+  const double root = std::sqrt(half_diff * half_diff + info(0, 1) * info(0, 1));
+  return (half_trace - root) / (half_trace + root);
 }
 
 Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,

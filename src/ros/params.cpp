@@ -35,6 +35,10 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("likelihood_temperature", p.slam.likelihood_temperature, c.likelihood_temperature);
   visit("resample_threshold", p.slam.resample_threshold, c.resample_threshold);
   visit("along_track_prior", p.slam.along_track_prior, c.along_track_prior);
+  visit("constrained_merge_ratio", p.slam.constrained_merge_ratio, c.constrained_merge_ratio);
+  visit("constrained_merge_distance", p.slam.constrained_merge_distance,
+        c.constrained_merge_distance);
+  visit("constrained_merge_angle", p.slam.constrained_merge_angle, c.constrained_merge_angle);
   visit("scan_matching", p.slam.matcher.enabled, c.scan_matching);
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
   visit("matcher_point_to_line", p.slam.matcher.point_to_line, c.matcher_point_to_line);

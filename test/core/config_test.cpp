@@ -42,7 +42,8 @@ TEST(ConfigTest, DefaultValues) {
 }
 
 // The real-robot preset turns on the wide-basin match (±20° in 5° steps), the forward model's
-// reading of conflict as ignorance and the along-track prior, and changes nothing else.
+// reading of conflict as ignorance, the along-track prior and the constrained merge, and changes
+// nothing else.
 TEST(ConfigTest, RealRobotPreset) {
   SlamConfig c;
   applyRealRobotPreset(&c);
@@ -54,6 +55,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_FALSE(SlamConfig().sensor.forward_conflict_as_unknown);
   EXPECT_TRUE(c.along_track_prior);
   EXPECT_FALSE(SlamConfig().along_track_prior);
+  EXPECT_DOUBLE_EQ(c.constrained_merge_ratio, 0.5);
+  EXPECT_EQ(SlamConfig().constrained_merge_ratio, 0.0);  // off by default
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -118,7 +121,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 26u);
+  EXPECT_EQ(names.size(), 29u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;
@@ -182,6 +185,17 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c = SlamConfig();
   c.sensor.prior_occupied = 1.2;
   expectInvalid(c, "prior_occupied > 1");
+  c = SlamConfig();
+  c.constrained_merge_ratio = 1.5;
+  expectInvalid(c, "constrained_merge_ratio > 1");
+  c.constrained_merge_ratio = -0.1;
+  expectInvalid(c, "constrained_merge_ratio < 0");
+  c = SlamConfig();
+  c.constrained_merge_distance = -0.01;
+  expectInvalid(c, "constrained_merge_distance < 0");
+  c = SlamConfig();
+  c.constrained_merge_angle = std::nan("");
+  expectInvalid(c, "constrained_merge_angle NaN");
 }
 
 // Further values that would break the models (a zero or negative σ divides by zero, NaN

@@ -319,11 +319,12 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
 }
 
 // The wide-basin match (preset real) recovers a heading error ICP alone does not: after one update
-// without merging (merge_distance 0) the 8 particles have 8 maps (8 hypotheses), and when the next
-// odometry increment is 0.9 rad (52°) off in heading, which ICP from the prediction does not
-// recover (point to line recovers 0.6 rad in this small room), each hypothesis runs the multi-start
-// search over ±0.95 rad and every particle is brought back onto the truth. With the search off
-// (preset sim) ICP alone stays caught: the best particle is more than 0.1 rad off.
+// without merging (merge_distance 0, constrained_merge_ratio 0) the 8 particles have 8 maps (8
+// hypotheses), and when the next odometry increment is 0.9 rad (52°) off in heading, which ICP from
+// the prediction does not recover (point to line recovers 0.6 rad in this small room), each
+// hypothesis runs the multi-start search over ±0.95 rad and every particle is brought back onto the
+// truth. With the search off (preset sim) ICP alone stays caught: the best particle is more than
+// 0.1 rad off.
 TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   const auto run = [](bool wide, size_t* searches) {
     SlamConfig config = filterConfig(8);
@@ -331,6 +332,7 @@ TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
     if (wide) {
       applyRealRobotPreset(&config);
       config.matcher.heading_window = 0.95;
+      config.constrained_merge_ratio = 0.0;
     }
     ParticleFilter filter(config);
     Pose2 truth(-0.5, -0.3, 0.1);
@@ -357,6 +359,34 @@ TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   EXPECT_EQ(searches, 8u);
   EXPECT_GT(run(false, &searches), 0.1);
   EXPECT_EQ(searches, 0u);
+}
+
+// constrained_merge_ratio: with the wide-basin match on and the ordinary merge off
+// (merge_distance 0), 8 particles sampled with motion noise and refined are 8 groups. In the room,
+// where the scan fixes the position every way, a 0.5 ratio merges them all within the wider
+// radius (the refinements end within centimetres); in a corridor, which leaves the position along
+// it free, it merges none, even with a 1 m radius: the spread along it is kept.
+TEST(ParticleFilterTest, ConstrainedMergeOnlyWhereTheScanFixesThePosition) {
+  const auto groups = [](bool corridor, double ratio) {
+    SlamConfig config = filterConfig(8);
+    applyRealRobotPreset(&config);
+    config.merge_distance = 0.0;
+    config.constrained_merge_ratio = ratio;
+    config.constrained_merge_distance = 1.0;
+    config.constrained_merge_angle = 0.1;
+    ParticleFilter filter(config);
+    const auto scan = [corridor](const Pose2& p) {
+      return corridor ? testing_room::corridorScan(p) : testing_room::roomScan(p, 0.0, true);
+    };
+    const Pose2 start(-0.5, -0.3, 0.1), step(0.3, 0.0, 0.0);
+    filter.initialize(start, scan(start), 0);
+    filter.update(step, scan(start.compose(step)), 1);
+    return filter.lastUpdateGroups();
+  };
+  EXPECT_EQ(groups(false, 0.0), 8u);
+  EXPECT_EQ(groups(false, 0.5), 1u);
+  EXPECT_EQ(groups(true, 0.0), 8u);
+  EXPECT_EQ(groups(true, 0.5), 8u);
 }
 
 // hitBeamSubset keeps exactly the beams traceScan makes hits, every stride-th of them: on a room

@@ -75,27 +75,13 @@ TEST_F(ScanMatcherTest, RefineRecoversPerturbedPose) {
   }
 }
 
-// A scan in a corridor (walls y = ±1, no end within the laser's 20 m) says nothing about the
-// position along it. ICP (point to line, the default, and point to point) corrects the offset
-// across the corridor and the heading and leaves the position along it where the proposal put it,
-// to within 2 cm.
-TEST(ScanMatcherCorridorTest, IcpKeepsTheUnobservedDirection) {
-  constexpr double kPi = 3.14159265358979323846;
-  auto corridorScan = [&](const Pose2& pose) {
-    LaserScan scan;
-    scan.max_range = 20.0f;
-    for (int i = 0; i < 360; ++i) {
-      const double bearing = -kPi + i * (2 * kPi / 360), s = std::sin(pose.theta + bearing);
-      const double t = s > 1e-9 ? (1.0 - pose.y) / s : s < -1e-9 ? (-1.0 - pose.y) / s : 1e9;
-      scan.bearings.push_back(static_cast<float>(bearing));
-      scan.ranges.push_back(static_cast<float>(std::min(t, 25.0)));
-      scan.valid.push_back(t < 20.0 ? 1 : 0);
-    }
-    return scan;
-  };
+using testing_room::corridorScan;
+
+// The corridor (test_support.h) mapped from 17 poses along it, so its walls are continuous lines
+// of occupied cells.
+EvidentialGridMap mappedCorridor() {
   const BeamModel model(SensorModelConfig(), 0.05);
   EvidentialGridMap map(0.05);
-  // Mapped from 17 poses along it, so its walls are continuous lines of occupied cells.
   for (int i = -8; i <= 8; ++i) {
     const Pose2 p(0.25 * i, 0.2 * std::sin(i), 0.05 * std::cos(i));
     TracedScan traced;
@@ -103,6 +89,15 @@ TEST(ScanMatcherCorridorTest, IcpKeepsTheUnobservedDirection) {
     ScanAccumulator scratch;
     model.integrateScan(traced, &map, &scratch);
   }
+  return map;
+}
+
+// A scan in a corridor (walls y = ±1, no end within the laser's 20 m) says nothing about the
+// position along it. ICP (point to line, the default, and point to point) corrects the offset
+// across the corridor and the heading and leaves the position along it where the proposal put it,
+// to within 2 cm.
+TEST(ScanMatcherCorridorTest, IcpKeepsTheUnobservedDirection) {
+  const EvidentialGridMap map = mappedCorridor();
   const Pose2 truth(0.4, 0.0, 0.0);
   for (const bool to_line : {true, false}) {
     ScanMatcherConfig config;
@@ -120,6 +115,41 @@ TEST(ScanMatcherCorridorTest, IcpKeepsTheUnobservedDirection) {
       EXPECT_NEAR(refined.x, start.x, 0.02);
     }
   }
+}
+
+// translationConstraint: in a corridor whose walls are lines of cells (set by hand: rows y = ±1 m
+// occupied, the cells between free, x within ±20 m) every matched endpoint's normal is (0, ±1), so
+// the translation information has no x part and the ratio is 0. Both with a point-to-line and a
+// point-to-point matcher: the normals come from the map. In the room (with its box) walls face
+// both ways: above 0.5. A map without walls matches nothing: 0.
+TEST(ScanMatcherCorridorTest, TranslationConstraintIsZeroAlongACorridor) {
+  EvidentialGridMap map(0.05);
+  for (int x = -400; x < 400; ++x) {
+    map.mutableCell(x, 20) = Cell::fromStored(0.9f, 0.0f, 0.0f);
+    map.mutableCell(x, -21) = Cell::fromStored(0.9f, 0.0f, 0.0f);
+    for (int y = -20; y < 20; ++y) map.mutableCell(x, y) = Cell::fromStored(0.0f, 0.9f, 0.0f);
+  }
+  const Pose2 truth(0.4, 0.0, 0.0);
+  for (const bool to_line : {true, false}) {
+    ScanMatcherConfig config;
+    config.point_to_line = to_line;
+    const ScanMatcher matcher(config, SensorModelConfig(), 0.05);
+    const std::vector<MatchPoint> pts = matcher.endpoints(corridorScan(truth));
+    const double ratio = matcher.translationConstraint(map, truth, pts);
+    EXPECT_NEAR(ratio, 0.0, 1e-12) << "point to line " << to_line;
+  }
+}
+
+TEST_F(ScanMatcherTest, TranslationConstraintIsHighInARoom) {
+  for (const bool to_line : {true, false}) {
+    ScanMatcherConfig config;
+    config.point_to_line = to_line;
+    const ScanMatcher matcher(config, SensorModelConfig(), 0.05);
+    const double ratio = matcher.translationConstraint(map_, truth_, endpoints_);
+    EXPECT_GT(ratio, 0.5) << "point to line " << to_line;
+    EXPECT_LE(ratio, 1.0) << "point to line " << to_line;
+  }
+  EXPECT_EQ(matcher_.translationConstraint(EvidentialGridMap(0.05), truth_, endpoints_), 0.0);
 }
 
 // search() turns the start by up to ±heading_window: from 0.6 rad (34°) and 10 cm off, where ICP

@@ -39,6 +39,22 @@ inline LaserScan roomScan(const Pose2& pose, double stamp = 0.0, bool with_box =
   return scan;
 }
 
+// Scan of a corridor along x (walls y = ±1, no end within the laser's 20 m): 360 beams over a
+// full turn from `pose`; beams along it are no-return (invalid).
+inline LaserScan corridorScan(const Pose2& pose) {
+  constexpr double kPi = 3.14159265358979323846;
+  LaserScan scan;
+  scan.max_range = 20.0f;
+  for (int i = 0; i < 360; ++i) {
+    const double bearing = -kPi + i * (2 * kPi / 360), s = std::sin(pose.theta + bearing);
+    const double t = s > 1e-9 ? (1.0 - pose.y) / s : s < -1e-9 ? (-1.0 - pose.y) / s : 1e9;
+    scan.bearings.push_back(static_cast<float>(bearing));
+    scan.ranges.push_back(static_cast<float>(std::min(t, 25.0)));
+    scan.valid.push_back(t < 20.0 ? 1 : 0);
+  }
+  return scan;
+}
+
 // A motion model that adds no noise at all (no α terms, no floor): samples equal the odometry.
 inline MotionModelConfig noiselessMotion() {
   MotionModelConfig c;

@@ -99,7 +99,7 @@ TEST(OfflineArgs, Preset) {
 
 // config/real.yaml (the node's preset) sets what --preset real sets: each of its `name: value`
 // lines, applied by ROS name to the defaults, gives applyRealRobotPreset's value, and it names
-// each of the three fields the preset changes.
+// each of the four fields the preset changes.
 TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../config/real.yaml");
   ASSERT_TRUE(in.good());
@@ -120,13 +120,15 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
     names.insert(name);
   }
   EXPECT_EQ(names, (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
-                                          "along_track_prior"}));
+                                          "along_track_prior", "constrained_merge_ratio"}));
   SlamConfig preset;
   applyRealRobotPreset(&preset);
   EXPECT_EQ(from_file.matcher.heading_window, preset.matcher.heading_window);
   EXPECT_EQ(from_file.sensor.forward_conflict_as_unknown,
             preset.sensor.forward_conflict_as_unknown);
   EXPECT_EQ(from_file.along_track_prior, preset.along_track_prior);
+  EXPECT_EQ(from_file.constrained_merge_ratio, preset.constrained_merge_ratio);
+  EXPECT_GT(preset.constrained_merge_ratio, 0.0);
 }
 
 // --param NAME=VALUE sets a SLAM parameter by its ROS name, over the preset, in order.

@@ -44,6 +44,16 @@ class ScanMatcher {
   // m̃(o)(hit + o) and m̃(e)(free + o) both ≥ occupied_threshold; false when there is none.
   bool correspondence(const EvidentialGridMap& map, const CellIndex& hit, const CellIndex& free,
                       CellIndex* offset) const;
+  // How well the scan fixes the robot's position at `pose`: the smaller over the larger eigenvalue
+  // of the translation block of point-to-line ICP's normal equations there (whether this matcher
+  // matches point to line or not): Σ w n nᵀ over the endpoints whose target cells line up (n their
+  // line's normal), plus w I for the rest (a corner, a blob: point to point). Near 0 along a
+  // corridor whose walls are lines, near 1 where walls face every way; 0 when too few endpoints
+  // match. Walls mapped as bands 3 cells thick do not line up within the normal's reach, so a
+  // corridor of them reads as fixed both ways (to within a cell, as point-to-point ICP fixes it).
+
+  double translationConstraint(const EvidentialGridMap& map, const Pose2& pose,
+                               const std::vector<MatchPoint>& endpoints) const;
   // ICP from `start` to convergence and score() there; score -1 (and pose `start`) when the first
   // step finds too few matches.
   struct Match {
@@ -69,13 +79,15 @@ class ScanMatcher {
     CellIndex free;
     bool found = false;
     CellIndex offset;
-    bool has_normal = false;  // point to line only
+    bool has_normal = false;  // point to line, or the information asked for
     Eigen::Vector2d normal = Eigen::Vector2d::Zero();
   };
   // One ICP iteration; false when too few endpoints matched. `correspondences`: one per endpoint,
-  // kept between the iterations of one ICP run.
+  // kept between the iterations of one ICP run. `translation_information`, if given, receives the
+  // translation block of the step's normal equations (see translationConstraint).
   bool icpStep(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
-               std::vector<Correspondence>* correspondences, Pose2* pose) const;
+               std::vector<Correspondence>* correspondences, Pose2* pose,
+               Eigen::Matrix2d* translation_information = nullptr) const;
   // ICP to convergence from `start`; false when the first step finds too few matches.
   bool icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& endpoints,
            Pose2* pose) const;
