@@ -31,6 +31,9 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_DOUBLE_EQ(c.likelihood_temperature, 20.0);
   EXPECT_DOUBLE_EQ(c.resample_threshold, 0.5);
   EXPECT_FALSE(c.along_track_prior);
+  EXPECT_EQ(c.constrained_merge_ratio, 0.0);  // off (preset real: 0.5)
+  EXPECT_DOUBLE_EQ(c.constrained_merge_distance, 0.05);
+  EXPECT_DOUBLE_EQ(c.constrained_merge_angle, 0.02);
   EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
   EXPECT_DOUBLE_EQ(c.sensor.forward_unknown_weight, 1.0);
   EXPECT_FALSE(c.sensor.forward_conflict_as_unknown);
@@ -56,7 +59,6 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_TRUE(c.along_track_prior);
   EXPECT_FALSE(SlamConfig().along_track_prior);
   EXPECT_DOUBLE_EQ(c.constrained_merge_ratio, 0.5);
-  EXPECT_EQ(SlamConfig().constrained_merge_ratio, 0.0);  // off by default
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);

@@ -328,12 +328,12 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
 TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   const auto run = [](bool wide, size_t* searches) {
     SlamConfig config = filterConfig(8);
-    config.merge_distance = 0.0;
     if (wide) {
       applyRealRobotPreset(&config);
       config.matcher.heading_window = 0.95;
-      config.constrained_merge_ratio = 0.0;
     }
+    config.merge_distance = 0.0;
+    config.constrained_merge_ratio = 0.0;
     ParticleFilter filter(config);
     Pose2 truth(-0.5, -0.3, 0.1);
     const auto scan = [](const Pose2& p) { return testing_room::roomScan(p, 0.0, true); };
@@ -361,19 +361,22 @@ TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   EXPECT_EQ(searches, 0u);
 }
 
-// constrained_merge_ratio: with the wide-basin match on and the ordinary merge off
-// (merge_distance 0), 8 particles sampled with motion noise and refined are 8 groups. In the room,
-// where the scan fixes the position every way, a 0.5 ratio merges them all within the wider
-// radius (the refinements end within centimetres); in a corridor, which leaves the position along
-// it free, it merges none, even with a 1 m radius: the spread along it is kept.
+// constrained_merge_ratio: with the ordinary merge off (merge_distance 0), 8 particles sampled
+// with motion noise and refined are 8 groups. In the room, where the scan fixes the position
+// every way, a 0.5 ratio merges them all within the wider radius (the refinements end within
+// centimetres); in a corridor, which leaves the position along it free, it merges none, even
+// with a 1 m radius: the spread along it is kept. The same with the wide-basin match (preset
+// real: measured at the match) and without it (measured at the refined pose). A matcher that is
+// point to point (a noisy laser) does not merge wider.
 TEST(ParticleFilterTest, ConstrainedMergeOnlyWhereTheScanFixesThePosition) {
-  const auto groups = [](bool corridor, double ratio) {
+  const auto groups = [](bool wide_match, bool corridor, double ratio, bool to_line = true) {
     SlamConfig config = filterConfig(8);
-    applyRealRobotPreset(&config);
+    if (wide_match) applyRealRobotPreset(&config);
     config.merge_distance = 0.0;
     config.constrained_merge_ratio = ratio;
     config.constrained_merge_distance = 1.0;
     config.constrained_merge_angle = 0.1;
+    config.matcher.point_to_line = to_line;
     ParticleFilter filter(config);
     const auto scan = [corridor](const Pose2& p) {
       return corridor ? testing_room::corridorScan(p) : testing_room::roomScan(p, 0.0, true);
@@ -383,10 +386,14 @@ TEST(ParticleFilterTest, ConstrainedMergeOnlyWhereTheScanFixesThePosition) {
     filter.update(step, scan(start.compose(step)), 1);
     return filter.lastUpdateGroups();
   };
-  EXPECT_EQ(groups(false, 0.0), 8u);
-  EXPECT_EQ(groups(false, 0.5), 1u);
-  EXPECT_EQ(groups(true, 0.0), 8u);
-  EXPECT_EQ(groups(true, 0.5), 8u);
+  for (const bool wide_match : {true, false}) {
+    SCOPED_TRACE(testing::Message() << "wide-basin match " << wide_match);
+    EXPECT_EQ(groups(wide_match, false, 0.0), 8u);
+    EXPECT_EQ(groups(wide_match, false, 0.5), 1u);
+    EXPECT_EQ(groups(wide_match, true, 0.0), 8u);
+    EXPECT_EQ(groups(wide_match, true, 0.5), 8u);
+    EXPECT_EQ(groups(wide_match, false, 0.5, /*to_line=*/false), 8u);
+  }
 }
 
 // hitBeamSubset keeps exactly the beams traceScan makes hits, every stride-th of them: on a room

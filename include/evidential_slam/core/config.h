@@ -125,14 +125,16 @@ struct SlamConfig {
   // they take the same pose and the scan is integrated once for all of them (0 disables).
   double merge_distance = 0.005;  // m
   double merge_angle = 0.0025;    // rad
-  // With the wide-basin match on: a hypothesis whose match the scan fixes every way (its
-  // ScanMatcher::translationConstraint, the smaller over the larger eigenvalue of ICP's translation
-  // information, is at least constrained_merge_ratio) merges its particles within
-  // constrained_merge_distance / constrained_merge_angle instead. Their refinements would end
-  // within millimetres of one another after the next scans anyway; along a corridor (ratio near 0)
-  // the spread is the filter's only memory of the distance travelled, so it is kept. 0 = off.
-  // applyRealRobotPreset: 0.5 (freiburg-079, seeds 1-3: 23-25x real time instead of 18-19x, the
-  // same accuracy; README, "Real robot logs").
+  // A hypothesis whose position the scan fixes every way (ScanMatcher::translationConstraint, the
+  // smaller over the larger eigenvalue of ICP's translation information, at least
+  // constrained_merge_ratio; measured at its wide-basin match when that runs, else at its first
+  // particle's refined pose) merges its particles within constrained_merge_distance /
+  // constrained_merge_angle instead. Along a corridor (ratio near 0) the spread is the filter's
+  // only memory of the distance travelled, so it is kept there. Only for a laser matched point to
+  // line (a noisy laser's banded walls read as fixed everywhere). 0 = off. applyRealRobotPreset:
+  // 0.5 (freiburg-079, seeds 1-3: 23-25x real time instead of 18-19x, the same accuracy). Off by
+  // default although simul.rawlog takes 31 % less time with it at the same accuracy: the paper
+  // experiment's kidnap then changes (README, "Constrained merge").
   double constrained_merge_ratio = 0.0;
   double constrained_merge_distance = 0.05;  // m
   double constrained_merge_angle = 0.02;     // rad

@@ -27,6 +27,8 @@ struct MatchPoint {
 class ScanMatcher {
  public:
   ScanMatcher(const ScanMatcherConfig& config, const SensorModelConfig& sensor, double resolution);
+  // The configuration in use (after forSensorNoise, when the filter built it for a noisy laser).
+  const ScanMatcherConfig& config() const { return config_; }
 
   // Beam endpoints in the robot frame used for matching (every matchStride()-th usable hit).
   std::vector<MatchPoint> endpoints(const LaserScan& scan) const;
