@@ -254,6 +254,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   const bool measure_constraint = config_.constrained_merge_ratio > 0.0 &&
                                   config_.matcher.enabled && matcher->config().point_to_line &&
                                   !endpoints.empty();
+  const auto fixesEveryWay = [&](const EvidentialGridMap& map, const Pose2& pose) {
+    return matcher->translationConstraint(map, pose, endpoints) >= config_.constrained_merge_ratio;
+  };
   // Hypotheses: particles with one map id share map and pose; firsts[h] is h's first particle.
   std::vector<size_t> hypothesis_of(n, 0);
   std::vector<size_t> firsts;
@@ -288,9 +291,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
             hits, models);
       }
       correction[h] = predicted.between(chosen);
-      constrained[h] =
-          measure_constraint && matcher->translationConstraint(p.map, chosen, endpoints) >=
-                                    config_.constrained_merge_ratio;
+      constrained[h] = measure_constraint && fixesEveryWay(p.map, chosen);
     });
     for (const char s : searched) last_wide_matches_ += s != 0 ? 1 : 0;
   }
@@ -319,9 +320,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   //    particle's refined pose.
   if (measure_constraint && !search) {
     pool_->run(firsts.size(), [&](size_t h, int) {
-      constrained[h] =
-          matcher->translationConstraint(particles_[firsts[h]].map, proposed[firsts[h]],
-                                         endpoints) >= config_.constrained_merge_ratio;
+      constrained[h] = fixesEveryWay(particles_[firsts[h]].map, proposed[firsts[h]]);
     });
   }
   std::vector<size_t> group_of(n);
