@@ -138,6 +138,7 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->sensor.forward_conflict_as_unknown = true;
   config->along_track_prior = true;
   config->constrained_merge_ratio = 0.5;
+  config->matcher.icp_iterations = 30;
 }
 
 namespace {
@@ -175,6 +176,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("matcher_point_to_line", c.matcher.point_to_line);
   visit("matcher_heading_window", c.matcher.heading_window);
   visit("matcher_heading_step", c.matcher.heading_step);
+  visit("matcher_icp_iterations", c.matcher.icp_iterations);
 }
 
 // Whole-string parses; false on junk, overflow or a non-finite number.

@@ -59,6 +59,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_TRUE(c.along_track_prior);
   EXPECT_FALSE(SlamConfig().along_track_prior);
   EXPECT_DOUBLE_EQ(c.constrained_merge_ratio, 0.5);
+  EXPECT_EQ(c.matcher.icp_iterations, 30);
+  EXPECT_EQ(SlamConfig().matcher.icp_iterations, 12);
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -85,6 +87,8 @@ TEST(ConfigTest, SetsParametersByName) {
   ASSERT_TRUE(c.matcher.point_to_line);
   ASSERT_TRUE(setSlamParameter("matcher_point_to_line", "false", &c, &why)) << why;
   EXPECT_FALSE(c.matcher.point_to_line);
+  ASSERT_TRUE(setSlamParameter("matcher_icp_iterations", "30", &c, &why)) << why;
+  EXPECT_EQ(c.matcher.icp_iterations, 30);
   ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
   const SlamConfig d;
@@ -123,7 +127,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 29u);
+  EXPECT_EQ(names.size(), 30u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;

@@ -64,12 +64,12 @@ struct ScanMatcherConfig {
   bool enabled = true;
   double search_radius = 0.4;        // m around each endpoint searched for an occupied cell
   double occupied_threshold = 0.25;  // m̃(o) that makes a cell a match target (at most one hit's)
-  // At most. Its steps shrink slowly (nearest-cell matches change as the pose moves): on
-  // aces-synth 81 % of the calls used all of 12 and 35 % all of 60. Stopping at 12 left the real
-  // logs' proposals short of their match (aces-synth seeds 1-10: 4 over 0.3 m; 1 with 30). On
-  // simul.rawlog 85 % used all of 12, but the hill climb ends where it did (seed 1: the same
-  // trajectory). README, "ICP iterations".
-  int icp_iterations = 30;
+  // At most; applyRealRobotPreset: 30. Its steps shrink slowly (nearest-cell matches change as
+  // the pose moves): on aces-synth 81 % of the calls used all of 12 and 35 % all of 60, and
+  // stopping at 12 left real odometry's proposals short of their match (aces-synth seeds 1-10:
+  // 4 over 0.3 m; 1 with 30). Simulated odometry starts ICP near its match: simul.rawlog gives the
+  // same trajectory with 30, range_030_bearing_015.rawlog a worse one (README, "ICP iterations").
+  int icp_iterations = 12;
   // ICP minimises each endpoint's distance to the line through the target cells around its match
   // (their axis of least spread is the normal), by Gauss-Newton steps, so it does not slide along
   // walls; point to point where those cells do not line up (a corner, a lone cell). false: the
