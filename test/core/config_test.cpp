@@ -166,6 +166,11 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c.matcher.beam_spacing = -0.01;
   expectInvalid(c, "beam_spacing < 0");
   c = SlamConfig();
+  c.matcher.icp_iterations = 101;  // a ROS / --param parameter since the real preset sets it
+  expectInvalid(c, "icp_iterations > 100");
+  c.matcher.icp_iterations = -1;
+  expectInvalid(c, "icp_iterations < 0");
+  c = SlamConfig();
   c.sensor.random_weight = 1.0;
   expectInvalid(c, "random_weight = 1");
   c = SlamConfig();
