@@ -68,7 +68,8 @@ struct ScanMatcherConfig {
   // the pose moves): on aces-synth 81 % of the calls used all of 12 and 35 % all of 60, and
   // stopping at 12 left real odometry's proposals short of their match (aces-synth seeds 1-10:
   // 4 over 0.3 m; 1 with 30). Simulated odometry starts ICP near its match: simul.rawlog gives the
-  // same trajectory with 30, range_030_bearing_015.rawlog a worse one (README, "ICP iterations").
+  // same trajectory with 30, range_030_bearing_015.rawlog a worse one (docs/experiments.md, "ICP
+  // iterations").
   int icp_iterations = 12;
   // ICP minimises each endpoint's distance to the line through the target cells around its match
   // (their axis of least spread is the normal), by Gauss-Newton steps, so it does not slide along
@@ -139,7 +140,7 @@ struct SlamConfig {
   // line (a noisy laser's banded walls read as fixed everywhere). 0 = off. applyRealRobotPreset:
   // 0.5 (freiburg-079, seeds 1-3: 23-25x real time instead of 18-19x, the same accuracy). Off by
   // default although simul.rawlog takes 31 % less time with it at the same accuracy: the paper
-  // experiment's kidnap then changes (README, "Constrained merge").
+  // experiment's kidnap then changes (docs/experiments.md, "Constrained merge").
   double constrained_merge_ratio = 0.0;
   double constrained_merge_distance = 0.05;  // m
   double constrained_merge_angle = 0.02;     // rad
