@@ -177,6 +177,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("matcher_heading_window", c.matcher.heading_window);
   visit("matcher_heading_step", c.matcher.heading_step);
   visit("matcher_icp_iterations", c.matcher.icp_iterations);
+  visit("matcher_beam_spacing", c.matcher.beam_spacing);
 }
 
 // Whole-string parses; false on junk, overflow or a non-finite number.

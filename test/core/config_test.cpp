@@ -89,6 +89,8 @@ TEST(ConfigTest, SetsParametersByName) {
   EXPECT_FALSE(c.matcher.point_to_line);
   ASSERT_TRUE(setSlamParameter("matcher_icp_iterations", "30", &c, &why)) << why;
   EXPECT_EQ(c.matcher.icp_iterations, 30);
+  ASSERT_TRUE(setSlamParameter("matcher_beam_spacing", "0.01", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.matcher.beam_spacing, 0.01);
   ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
   const SlamConfig d;
@@ -127,7 +129,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 30u);
+  EXPECT_EQ(names.size(), 31u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;
