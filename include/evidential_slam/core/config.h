@@ -67,9 +67,10 @@ struct ScanMatcherConfig {
   // At most; applyRealRobotPreset: 30. Its steps shrink slowly (nearest-cell matches change as
   // the pose moves): on aces-synth 81 % of the calls used all of 12 and 35 % all of 60, and
   // stopping at 12 left real odometry's proposals short of their match (aces-synth seeds 1-10:
-  // 4 over 0.3 m; 1 with 30). Simulated odometry starts ICP near its match: simul.rawlog gives the
-  // same trajectory with 30, range_030_bearing_015.rawlog a worse one (docs/experiments.md, "ICP
-  // iterations").
+  // 4 over 0.3 m; 1 with 30; but seeds 11-30, not used to choose it: 11 with 12, 14 with 30, so
+  // no gain shown on aces-synth). Simulated odometry starts ICP near its match: simul.rawlog gives
+  // the same trajectory with 30, range_030_bearing_015.rawlog a worse one (docs/experiments.md,
+  // "ICP iterations" and "Fresh seeds").
   int icp_iterations = 12;
   // ICP minimises each endpoint's distance to the line through the target cells around its match
   // (their axis of least spread is the normal), by Gauss-Newton steps, so it does not slide along
