@@ -139,6 +139,7 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->along_track_prior = true;
   config->constrained_merge_ratio = 0.5;
   config->matcher.icp_iterations = 30;
+  config->matcher.interleave_subsets = true;
 }
 
 namespace {
@@ -174,6 +175,7 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("scan_matching", c.matcher.enabled);
   visit("matcher_search_radius", c.matcher.search_radius);
   visit("matcher_point_to_line", c.matcher.point_to_line);
+  visit("matcher_interleave_subsets", c.matcher.interleave_subsets);
   visit("matcher_heading_window", c.matcher.heading_window);
   visit("matcher_heading_step", c.matcher.heading_step);
   visit("matcher_icp_iterations", c.matcher.icp_iterations);

@@ -239,6 +239,14 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   const BeamModel* beam_model = &models.beam;
   const ScanMatcher* matcher = &models.matcher;
   const std::vector<MatchPoint> endpoints = matcher->endpoints(scan);
+  // The refinement's interleaved beam subsets (config.h, interleave_subsets); [0] is `endpoints`.
+  std::vector<std::vector<MatchPoint>> refine_subsets;
+  const int subsets = config_.matcher.interleave_subsets ? matcher->matchStride(scan) : 1;
+  for (int j = 1; j < subsets; ++j) refine_subsets.push_back(matcher->endpoints(scan, j));
+  const auto refineEndpoints = [&](size_t k) -> const std::vector<MatchPoint>& {
+    const size_t j = k % static_cast<size_t>(subsets);
+    return j == 0 ? endpoints : refine_subsets[j - 1];
+  };
   const double exponent = 1.0 / config_.likelihood_temperature;
   const size_t n = particles_.size();
 
@@ -297,7 +305,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   }
 
   // 2. Proposal: sample the motion model (around the hypothesis's match when searched), refine
-  //    against the particle's own map.
+  //    against the particle's own map (on the particle's beam subset when interleaved).
   std::vector<Pose2> proposed(n);
   pool_->run(n, [&](size_t k, int) {
     Rng rng = Rng::forStream(config_.seed, static_cast<uint64_t>(step), k);
@@ -308,7 +316,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       pose = predicted.compose(correction[hypothesis_of[k]]).compose(predicted.between(pose));
     }
     if (config_.matcher.enabled && !endpoints.empty()) {
-      pose = matcher->refine(particles_[k].map, pose, endpoints);
+      pose = matcher->refine(particles_[k].map, pose, refineEndpoints(k));
     }
     proposed[k] = pose;
   });

@@ -42,6 +42,8 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("scan_matching", p.slam.matcher.enabled, c.scan_matching);
   visit("matcher_search_radius", p.slam.matcher.search_radius, c.matcher_search_radius);
   visit("matcher_point_to_line", p.slam.matcher.point_to_line, c.matcher_point_to_line);
+  visit("matcher_interleave_subsets", p.slam.matcher.interleave_subsets,
+        c.matcher_interleave_subsets);
   visit("matcher_heading_window", p.slam.matcher.heading_window, c.matcher_heading_window);
   visit("matcher_heading_step", p.slam.matcher.heading_step, c.matcher_heading_step);
   visit("matcher_icp_iterations", p.slam.matcher.icp_iterations, c.matcher_icp_iterations);

@@ -61,6 +61,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_DOUBLE_EQ(c.constrained_merge_ratio, 0.5);
   EXPECT_EQ(c.matcher.icp_iterations, 30);
   EXPECT_EQ(SlamConfig().matcher.icp_iterations, 12);
+  EXPECT_TRUE(c.matcher.interleave_subsets);
+  EXPECT_FALSE(SlamConfig().matcher.interleave_subsets);
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -91,6 +93,8 @@ TEST(ConfigTest, SetsParametersByName) {
   EXPECT_EQ(c.matcher.icp_iterations, 30);
   ASSERT_TRUE(setSlamParameter("matcher_beam_spacing", "0.01", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.matcher.beam_spacing, 0.01);
+  ASSERT_TRUE(setSlamParameter("matcher_interleave_subsets", "true", &c, &why)) << why;
+  EXPECT_TRUE(c.matcher.interleave_subsets);
   ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
   const SlamConfig d;
@@ -129,7 +133,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 31u);
+  EXPECT_EQ(names.size(), 32u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;

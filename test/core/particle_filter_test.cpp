@@ -205,6 +205,42 @@ TEST(ParticleFilterTest, AlongTrackPriorEntersTheWeights) {
   EXPECT_TRUE(scored);
 }
 
+// interleave_subsets: particle k refines on the scan's beam subset k mod stride (roomScan's 1°
+// beams at the 2° beam_spacing: stride 2). With the same seed the sampled poses are the same, so
+// the even particles (subset 0, as without it) end exactly where they end without it, and the odd
+// ones, refined on the other beams, elsewhere. No merging and no resampling: each particle keeps
+// its own refined pose.
+TEST(ParticleFilterTest, InterleavedSubsetsRefineOddParticlesOnTheOtherBeams) {
+  SlamConfig off = filterConfig(8);
+  off.merge_distance = 0.0;
+  off.merge_angle = 0.0;
+  off.resample_threshold = 0.0;
+  SlamConfig on = off;
+  on.matcher.interleave_subsets = true;
+  ParticleFilter a(off), b(on);
+  const Pose2 start(-1.0, 0.2, 0.0);
+  a.initialize(start, roomScan(start), 0);
+  b.initialize(start, roomScan(start), 0);
+  const Pose2 increment(0.5, 0.05, 0.05);
+  const Pose2 truth = start.compose(Pose2(0.45, 0.0, 0.0));  // the odometry is off
+  a.update(increment, roomScan(truth), 1);
+  b.update(increment, roomScan(truth), 1);
+  for (size_t i = 0; i < 8; ++i) {
+    const Pose2& pa = a.particles()[i].pose;
+    const Pose2& pb = b.particles()[i].pose;
+    if (i % 2 == 0) {
+      EXPECT_EQ(pa.x, pb.x) << i;
+      EXPECT_EQ(pa.y, pb.y) << i;
+      EXPECT_EQ(pa.theta, pb.theta) << i;
+    } else {
+      EXPECT_TRUE(pa.x != pb.x || pa.y != pb.y || pa.theta != pb.theta) << i;
+    }
+    // Either way the refinement found the room: within 3 cm of the truth.
+    EXPECT_NEAR(pb.x, truth.x, 0.03) << i;
+    EXPECT_NEAR(pb.y, truth.y, 0.03) << i;
+  }
+}
+
 // Same seed and thread count: identical results (config.h promises determinism).
 TEST(ParticleFilterTest, DeterministicForSeed) {
   ParticleFilter a(filterConfig(6)), b(filterConfig(6));

@@ -85,6 +85,12 @@ struct ScanMatcherConfig {
   // rad between matched beams (2°): a 0.5° laser is matched on every 4th usable beam, a 1° one on
   // every 2nd, so the matching costs the same per scan whatever the laser's density.
   double beam_spacing = 0.03490658503988659;
+  // Particle k refines its pose on the scan's beam subset k mod stride (the stride's interleaved
+  // subsets, beam_spacing apart each; endpoints()): between them the particles match every beam,
+  // each at the cost of one subset, and the weights, which read every beam, choose among them.
+  // false: every particle on subset 0. The wide-basin match always uses subset 0.
+  // applyRealRobotPreset: true.
+  bool interleave_subsets = false;
   double min_match_fraction =
       0.2;  // below this fraction of endpoints matched, keep the sampled pose
   // Wide-basin match (applyRealRobotPreset): before the particles are sampled, each hypothesis
