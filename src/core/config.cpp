@@ -139,7 +139,6 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->along_track_prior = true;
   config->constrained_merge_ratio = 0.5;
   config->matcher.icp_iterations = 30;
-  config->matcher.interleave_subsets = true;
 }
 
 namespace {

@@ -61,8 +61,7 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_DOUBLE_EQ(c.constrained_merge_ratio, 0.5);
   EXPECT_EQ(c.matcher.icp_iterations, 30);
   EXPECT_EQ(SlamConfig().matcher.icp_iterations, 12);
-  EXPECT_TRUE(c.matcher.interleave_subsets);
-  EXPECT_FALSE(SlamConfig().matcher.interleave_subsets);
+  EXPECT_FALSE(c.matcher.interleave_subsets);  // not shown to help (config.h)
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
