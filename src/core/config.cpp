@@ -83,6 +83,10 @@ bool ScanMatcherConfig::isValid(std::string* why) const {
       .require(positiveFinite(score_sigma), "matcher score_sigma must be > 0")
       .require(nonNegativeFinite(beam_spacing) && beam_spacing <= M_PI,
                "matcher beam_spacing must be in [0, pi] rad")
+      .require(nonNegativeFinite(long_step_beam_spacing) && long_step_beam_spacing <= M_PI,
+               "matcher long_step_beam_spacing must be in [0, pi] rad (0 = off)")
+      .require(nonNegativeFinite(long_step_distance), "matcher long_step_distance must be >= 0")
+      .require(nonNegativeFinite(long_step_angle), "matcher long_step_angle must be >= 0")
       .require(min_match_fraction >= 0.0 && min_match_fraction <= 1.0,
                "matcher min_match_fraction must be in [0, 1]")
       .require(nonNegativeFinite(heading_window) && heading_window <= M_PI,
@@ -104,6 +108,7 @@ ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma, double h
   if (range_sigma > resolution) {
     c.point_to_line = false;
     c.beam_spacing = 0.5 * beam_spacing;
+    c.long_step_beam_spacing = 0.5 * long_step_beam_spacing;
   }
   return c;
 }
@@ -139,6 +144,7 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->along_track_prior = true;
   config->constrained_merge_ratio = 0.5;
   config->matcher.icp_iterations = 30;
+  config->matcher.long_step_beam_spacing = 0.017453292519943295;  // 1°
 }
 
 namespace {
@@ -179,6 +185,9 @@ void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("matcher_heading_step", c.matcher.heading_step);
   visit("matcher_icp_iterations", c.matcher.icp_iterations);
   visit("matcher_beam_spacing", c.matcher.beam_spacing);
+  visit("matcher_long_step_beam_spacing", c.matcher.long_step_beam_spacing);
+  visit("matcher_long_step_distance", c.matcher.long_step_distance);
+  visit("matcher_long_step_angle", c.matcher.long_step_angle);
 }
 
 // Whole-string parses; false on junk, overflow or a non-finite number.

@@ -38,11 +38,22 @@ PathNode::~PathNode() {
 struct ParticleFilter::ScanModels {
   ScanModels(const SlamConfig& config, float range_sigma)
       : beam(config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
-        matcher(config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
-                                              config.resolution),
-                config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution) {}
+        matcher(matcherConfig(config, range_sigma, false),
+                config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
+        long_step_matcher(matcherConfig(config, range_sigma, true),
+                          config.sensor.forSensorNoise(range_sigma, config.resolution),
+                          config.resolution) {}
+  // The matcher for this sensor; `long_step`: the one for a long step (ScanMatcherConfig::
+  // isLongStep), at long_step_beam_spacing.
+  ScanMatcherConfig matcherConfig(const SlamConfig& config, float range_sigma, bool long_step) {
+    ScanMatcherConfig c = config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
+                                                        config.resolution);
+    if (long_step && c.long_step_beam_spacing > 0.0) c.beam_spacing = c.long_step_beam_spacing;
+    return c;
+  }
   BeamModel beam;
   ScanMatcher matcher;
+  ScanMatcher long_step_matcher;
 };
 
 const ParticleFilter::ScanModels& ParticleFilter::modelsFor(const LaserScan& scan) {
@@ -163,13 +174,11 @@ LaserScan ParticleFilter::hitBeamSubset(const LaserScan& scan, const SensorModel
   return out;
 }
 
-ParticleFilter::NominalMatch ParticleFilter::nominalMatch(const EvidentialGridMap& map,
-                                                          const Pose2& predicted,
-                                                          const std::vector<MatchPoint>& endpoints,
-                                                          const LaserScan& hits,
-                                                          const ScanModels& models) const {
+ParticleFilter::NominalMatch ParticleFilter::nominalMatch(
+    const EvidentialGridMap& map, const Pose2& predicted, const std::vector<MatchPoint>& endpoints,
+    const LaserScan& hits, const ScanModels& models, const ScanMatcher& matcher) const {
   NominalMatch m;
-  m.icp = models.matcher.matchFrom(map, predicted, endpoints);
+  m.icp = matcher.matchFrom(map, predicted, endpoints);
   m.pose = m.icp.pose;
   // No match from the prediction: the map does not explain the scan there (a new area); a start
   // nearer the mapped area would win for that reason alone.
@@ -191,7 +200,7 @@ double ParticleFilter::wideLogPlausibility(const EvidentialGridMap& map, const P
 
 std::vector<ParticleFilter::WideCandidate> ParticleFilter::wideCandidates(
     const EvidentialGridMap& map, const Pose2& previous, const Pose2& increment,
-    const std::vector<MatchPoint>& endpoints, const ScanModels& models,
+    const std::vector<MatchPoint>& endpoints, const ScanMatcher& matcher,
     const NominalMatch& nominal) const {
   const Pose2 predicted = previous.compose(increment);
   std::vector<WideCandidate> candidates;
@@ -199,16 +208,15 @@ std::vector<ParticleFilter::WideCandidate> ParticleFilter::wideCandidates(
   // A turned candidate is one the odometry's heading error makes common (prior 1/e); one without
   // or with reversed translation, an odometry failure (prior 5 %). The unturned start is the
   // nominal match's ICP.
-  candidates.push_back(
-      WideCandidate{models.matcher.search(map, predicted, endpoints, config_.matcher.heading_window,
-                                          &s, &nominal.icp),
-                    1.0});
+  candidates.push_back(WideCandidate{
+      matcher.search(map, predicted, endpoints, config_.matcher.heading_window, &s, &nominal.icp),
+      1.0});
   if (std::hypot(increment.x, increment.y) > kAlternativeStartsFrom) {
     for (const double sign : {0.0, -1.0}) {  // no translation; translation reversed
       const Pose2 start =
           previous.compose(Pose2(sign * increment.x, sign * increment.y, increment.theta));
-      candidates.push_back(WideCandidate{models.matcher.search(map, start, endpoints, 0.0, &s),
-                                         kTranslationFailureNats});
+      candidates.push_back(
+          WideCandidate{matcher.search(map, start, endpoints, 0.0, &s), kTranslationFailureNats});
     }
   }
   return candidates;
@@ -237,7 +245,10 @@ Pose2 ParticleFilter::chooseCandidate(const EvidentialGridMap& map, const Nomina
 FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& scan, int step) {
   const ScanModels& models = modelsFor(scan);
   const BeamModel* beam_model = &models.beam;
-  const ScanMatcher* matcher = &models.matcher;
+  // At long_step_beam_spacing for a long odometry step (config.h).
+  const bool long_step =
+      config_.matcher.isLongStep(std::hypot(increment.x, increment.y), increment.theta);
+  const ScanMatcher* matcher = long_step ? &models.long_step_matcher : &models.matcher;
   const std::vector<MatchPoint> endpoints = matcher->endpoints(scan);
   // The refinement's interleaved beam subsets (config.h, interleave_subsets); [0] is `endpoints`.
   std::vector<std::vector<MatchPoint>> refine_subsets;
@@ -290,12 +301,13 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       const Particle& p = particles_[firsts[h]];
       const Pose2 predicted = p.pose.compose(increment);
       // ICP from the prediction; unless that explains the scan, also the multi-start search.
-      const NominalMatch nominal = nominalMatch(p.map, predicted, endpoints, hits, models);
+      const NominalMatch nominal =
+          nominalMatch(p.map, predicted, endpoints, hits, models, *matcher);
       Pose2 chosen = nominal.pose;
       if (!nominal.settled) {
         searched[h] = 1;
         chosen = chooseCandidate(
-            p.map, nominal, wideCandidates(p.map, p.pose, increment, endpoints, models, nominal),
+            p.map, nominal, wideCandidates(p.map, p.pose, increment, endpoints, *matcher, nominal),
             hits, models);
       }
       correction[h] = predicted.between(chosen);
@@ -398,6 +410,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   }
 
   FilterStepInfo info;
+  info.long_step = long_step;
   info.best_conflict_added_bits = conflict_added[group_of[bestIndex()]];
   info.best_conflict = conflict_stats[group_of[bestIndex()]];
   resampleIfNeeded(&info);

@@ -87,6 +87,7 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
   scan_records_.back().step = static_cast<int>(step_odometry_.size()) - 1;
   ++stats_.scans_processed;
   if (info.resampled) ++stats_.resamplings;
+  if (info.long_step) ++stats_.long_steps;
   out.processed = true;
   out.external_conflict_added = info.best_conflict_added_bits;
   out.conflict_mass_added = info.best_conflict.mass_added;

@@ -204,6 +204,7 @@ int Run::execute() {
   summary_.rays_bad = stats.rays_bad;
   summary_.rays_no_return = stats.rays_no_return;
   summary_.resamplings = stats.resamplings;
+  summary_.long_steps = stats.long_steps;
   summary_.slam_time_s = slam_s;
   if (stats.rays_bad > 0) {
     warn(std::to_string(stats.rays_bad) +

@@ -20,6 +20,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["rays_bad"] = s.rays_bad;
   j["rays_no_return"] = s.rays_no_return;
   j["resamplings"] = s.resamplings;
+  j["long_steps"] = s.long_steps;
   j["wall_time_s"] = s.wall_time_s;
   j["slam_time_s"] = s.slam_time_s;
   j["peak_rss_mb"] = s.peak_rss_mb;

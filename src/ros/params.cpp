@@ -48,6 +48,11 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   visit("matcher_heading_step", p.slam.matcher.heading_step, c.matcher_heading_step);
   visit("matcher_icp_iterations", p.slam.matcher.icp_iterations, c.matcher_icp_iterations);
   visit("matcher_beam_spacing", p.slam.matcher.beam_spacing, c.matcher_beam_spacing);
+  visit("matcher_long_step_beam_spacing", p.slam.matcher.long_step_beam_spacing,
+        c.matcher_long_step_beam_spacing);
+  visit("matcher_long_step_distance", p.slam.matcher.long_step_distance,
+        c.matcher_long_step_distance);
+  visit("matcher_long_step_angle", p.slam.matcher.long_step_angle, c.matcher_long_step_angle);
   visit("conflict_alarm_enabled", p.conflict_alarm.enabled, c.conflict_alarm_enabled);
   visit("conflict_alarm_factor", p.conflict_alarm.threshold_factor, c.conflict_alarm_factor);
   visit("conflict_alarm_min_added", p.conflict_alarm.min_added, c.conflict_alarm_min_added);

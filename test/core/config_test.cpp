@@ -45,8 +45,8 @@ TEST(ConfigTest, DefaultValues) {
 }
 
 // The real-robot preset turns on the wide-basin match (±20° in 5° steps), the forward model's
-// reading of conflict as ignorance, the along-track prior and the constrained merge, and changes
-// nothing else.
+// reading of conflict as ignorance, the along-track prior, the constrained merge, ICP to 30
+// iterations and 1° matching after a long step, and changes nothing else.
 TEST(ConfigTest, RealRobotPreset) {
   SlamConfig c;
   applyRealRobotPreset(&c);
@@ -62,6 +62,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_EQ(c.matcher.icp_iterations, 30);
   EXPECT_EQ(SlamConfig().matcher.icp_iterations, 12);
   EXPECT_FALSE(c.matcher.interleave_subsets);  // not shown to help (config.h)
+  EXPECT_DOUBLE_EQ(c.matcher.long_step_beam_spacing, M_PI / 180.0);
+  EXPECT_EQ(SlamConfig().matcher.long_step_beam_spacing, 0.0);  // off by default
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -94,6 +96,12 @@ TEST(ConfigTest, SetsParametersByName) {
   EXPECT_DOUBLE_EQ(c.matcher.beam_spacing, 0.01);
   ASSERT_TRUE(setSlamParameter("matcher_interleave_subsets", "true", &c, &why)) << why;
   EXPECT_TRUE(c.matcher.interleave_subsets);
+  ASSERT_TRUE(setSlamParameter("matcher_long_step_beam_spacing", "0.02", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.matcher.long_step_beam_spacing, 0.02);
+  ASSERT_TRUE(setSlamParameter("matcher_long_step_distance", "0.9", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.matcher.long_step_distance, 0.9);
+  ASSERT_TRUE(setSlamParameter("matcher_long_step_angle", "0.25", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.matcher.long_step_angle, 0.25);
   ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
   const SlamConfig d;
@@ -132,7 +140,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 32u);
+  EXPECT_EQ(names.size(), 35u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;
@@ -170,6 +178,15 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c = SlamConfig();
   c.matcher.beam_spacing = -0.01;
   expectInvalid(c, "beam_spacing < 0");
+  c = SlamConfig();
+  c.matcher.long_step_beam_spacing = -0.01;
+  expectInvalid(c, "long_step_beam_spacing < 0");
+  c = SlamConfig();
+  c.matcher.long_step_distance = std::nan("");
+  expectInvalid(c, "long_step_distance NaN");
+  c = SlamConfig();
+  c.matcher.long_step_angle = -0.1;
+  expectInvalid(c, "long_step_angle < 0");
   c = SlamConfig();
   c.matcher.icp_iterations = 101;  // a ROS / --param parameter since the real preset sets it
   expectInvalid(c, "icp_iterations > 100");
@@ -234,6 +251,21 @@ TEST(ConfigTest, DegenerateValuesAreRejected) {
   std::string why;
   EXPECT_FALSE(m.isValid(&why));
   EXPECT_FALSE(why.empty());
+}
+
+// A long step is one at least long_step_distance long or turning at least long_step_angle either
+// way, and only while long_step_beam_spacing is on.
+TEST(ConfigTest, LongStep) {
+  ScanMatcherConfig m;
+  EXPECT_FALSE(m.isLongStep(5.0, 1.0));  // off by default
+  m.long_step_beam_spacing = 0.0175;
+  m.long_step_distance = 0.8;
+  m.long_step_angle = 0.3;
+  EXPECT_FALSE(m.isLongStep(0.79, 0.29));
+  EXPECT_FALSE(m.isLongStep(0.79, -0.29));
+  EXPECT_TRUE(m.isLongStep(0.8, 0.0));
+  EXPECT_TRUE(m.isLongStep(0.0, 0.3));
+  EXPECT_TRUE(m.isLongStep(0.1, -0.31));
 }
 
 // The component configs reject their own invalid values.

@@ -241,6 +241,42 @@ TEST(ParticleFilterTest, InterleavedSubsetsRefineOddParticlesOnTheOtherBeams) {
   }
 }
 
+// long_step_beam_spacing: a step at least long_step_distance long (or turning long_step_angle) is
+// matched at that spacing, a shorter one at beam_spacing. roomScan's 1° beams: the long step is
+// matched on every beam, exactly as with beam_spacing 1°; the short one as without the option.
+TEST(ParticleFilterTest, LongStepsAreMatchedAtTheLongStepSpacing) {
+  SlamConfig base = filterConfig(8);
+  base.resample_threshold = 0.0;
+  SlamConfig every_beam = base;
+  every_beam.matcher.beam_spacing = 0.017453292519943295;
+  SlamConfig on = base;
+  on.matcher.long_step_beam_spacing = 0.017453292519943295;
+  on.matcher.long_step_distance = 0.8;
+  on.matcher.long_step_angle = 0.3;
+  const Pose2 start(-1.0, 0.2, 0.0);
+  const auto run = [&](const SlamConfig& config, const Pose2& increment) {
+    ParticleFilter filter(config);
+    filter.initialize(start, roomScan(start), 0);
+    const Pose2 truth = start.compose(Pose2(increment.x - 0.05, 0.0, 0.0));  // the odometry is off
+    const FilterStepInfo info = filter.update(increment, roomScan(truth), 1);
+    EXPECT_EQ(info.long_step, config.matcher.long_step_beam_spacing > 0.0 && increment.x > 0.8);
+    std::vector<Pose2> poses;
+    for (const Particle& p : filter.particles()) poses.push_back(p.pose);
+    return poses;
+  };
+  const auto same = [](const std::vector<Pose2>& a, const std::vector<Pose2>& b) {
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (a[i].x != b[i].x || a[i].y != b[i].y || a[i].theta != b[i].theta) return false;
+    }
+    return a.size() == b.size();
+  };
+  const Pose2 long_step(0.85, 0.05, 0.05), short_step(0.5, 0.05, 0.05);
+  EXPECT_TRUE(same(run(on, long_step), run(every_beam, long_step)));
+  EXPECT_FALSE(same(run(on, long_step), run(base, long_step)));  // the spacing matters here
+  EXPECT_TRUE(same(run(on, short_step), run(base, short_step)));
+  EXPECT_FALSE(same(run(on, short_step), run(every_beam, short_step)));
+}
+
 // Same seed and thread count: identical results (config.h promises determinism).
 TEST(ParticleFilterTest, DeterministicForSeed) {
   ParticleFilter a(filterConfig(6)), b(filterConfig(6));

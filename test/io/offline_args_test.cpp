@@ -99,7 +99,7 @@ TEST(OfflineArgs, Preset) {
 
 // config/real.yaml (the node's preset) sets what --preset real sets: each of its `name: value`
 // lines, applied by ROS name to the defaults, gives applyRealRobotPreset's value, and it names
-// each of the five fields the preset changes.
+// each of the six fields the preset changes.
 TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../config/real.yaml");
   ASSERT_TRUE(in.good());
@@ -119,9 +119,10 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
     EXPECT_TRUE(setSlamParameter(name, value, &from_file, &why)) << why;
     names.insert(name);
   }
-  EXPECT_EQ(names, (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
-                                          "along_track_prior", "constrained_merge_ratio",
-                                          "matcher_icp_iterations"}));
+  EXPECT_EQ(names,
+            (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
+                                   "along_track_prior", "constrained_merge_ratio",
+                                   "matcher_icp_iterations", "matcher_long_step_beam_spacing"}));
   SlamConfig preset;
   applyRealRobotPreset(&preset);
   EXPECT_EQ(from_file.matcher.heading_window, preset.matcher.heading_window);
@@ -130,6 +131,7 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   EXPECT_EQ(from_file.along_track_prior, preset.along_track_prior);
   EXPECT_EQ(from_file.constrained_merge_ratio, preset.constrained_merge_ratio);
   EXPECT_EQ(from_file.matcher.icp_iterations, preset.matcher.icp_iterations);
+  EXPECT_EQ(from_file.matcher.long_step_beam_spacing, preset.matcher.long_step_beam_spacing);
   EXPECT_GT(preset.constrained_merge_ratio, 0.0);
 }
 

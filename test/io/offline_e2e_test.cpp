@@ -135,11 +135,12 @@ TEST_F(OfflineE2E, ActionsSensoryFrameFixture) {
   const auto j = summaryOf(out);
   for (const char* key :
        {"rawlog", "scans_total", "scans_processed", "scans_rejected", "rays_total", "rays_bad",
-        "rays_no_return", "wall_time_s", "peak_rss_mb", "particles", "resolution", "seed",
-        "threads", "truncated", "warnings", "ate_rmse_m", "ate_max_m", "ate_matched"}) {
+        "rays_no_return", "long_steps", "wall_time_s", "peak_rss_mb", "particles", "resolution",
+        "seed", "threads", "truncated", "warnings", "ate_rmse_m", "ate_max_m", "ate_matched"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["scans_total"], kFixtureScans);
+  EXPECT_EQ(j["long_steps"], 0);  // off in the default (simulation) configuration
   EXPECT_GT(j["scans_processed"].get<int>(), 20);
   EXPECT_EQ(j["scans_rejected"], 0);
   EXPECT_EQ(j["rays_total"], kFixtureScans * 181);

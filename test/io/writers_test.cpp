@@ -364,6 +364,7 @@ TEST(Summary, JsonHasTheDocumentedKeys) {
   s.scans_total = 10;
   s.scans_processed = 7;
   s.rays_bad = 3;
+  s.long_steps = 4;
   s.truncated = true;
   s.warnings = {"one", "two"};
   s.ate = AteSummary{0.25, 0.5, 10};
@@ -372,11 +373,12 @@ TEST(Summary, JsonHasTheDocumentedKeys) {
   const auto j = nlohmann::json::parse(test::readText(path));
   for (const char* key :
        {"rawlog", "scans_total", "scans_processed", "scans_rejected", "rays_total", "rays_bad",
-        "rays_no_return", "wall_time_s", "peak_rss_mb", "particles", "resolution", "seed",
-        "threads", "truncated", "warnings", "ate_rmse_m", "ate_max_m", "ate_matched"}) {
+        "rays_no_return", "long_steps", "wall_time_s", "peak_rss_mb", "particles", "resolution",
+        "seed", "threads", "truncated", "warnings", "ate_rmse_m", "ate_max_m", "ate_matched"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["scans_total"], 10);
+  EXPECT_EQ(j["long_steps"], 4);
   EXPECT_EQ(j["truncated"], true);
   EXPECT_EQ(j["warnings"].size(), 2u);
   EXPECT_DOUBLE_EQ(j["ate_rmse_m"].get<double>(), 0.25);

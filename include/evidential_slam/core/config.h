@@ -2,6 +2,7 @@
 // Names match the ROS parameters / dynamic_reconfigure fields of the same meaning.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -92,6 +93,23 @@ struct ScanMatcherConfig {
   // the real preset: on aces-synth it gave 7 misses of 0.3 m in seeds 11-30 against 14, but the
   // same 7 as without it in fresh seeds 31-50 (docs/experiments.md, "Interleaved beam subsets").
   bool interleave_subsets = false;
+  // Beam spacing (rad) for a long step: when the odometry moved at least long_step_distance or
+  // turned at least long_step_angle since the last processed scan, the whole matching (wide-basin
+  // match and refinement) uses long_step_beam_spacing instead of beam_spacing. A long step leaves
+  // the prediction further from the match and the scan less overlap with the map, so the match
+  // gets more endpoints where it needs them and the cheaper spacing where steps are short. 0 = off.
+  // applyRealRobotPreset: 1°. Every beam matched everywhere took aces-synth (seeds 1-50) from 22
+  // misses of 0.3 m to 13 but freiburg-079 below 20x real time; after long steps only, fresh
+  // aces-synth seeds 61-80 missed on 8 against 12 and freiburg-079 (11 % of its steps long by
+  // its reference path) kept 22x (docs/experiments.md, "Every beam after a long step").
+  double long_step_beam_spacing = 0.0;
+  double long_step_distance = 0.8;  // m
+  double long_step_angle = 0.3;     // rad (17°)
+  // True when an odometry step of `distance` m and `angle` rad is a long step (and it is on).
+  bool isLongStep(double distance, double angle) const {
+    return long_step_beam_spacing > 0.0 &&
+           (distance >= long_step_distance || std::abs(angle) >= long_step_angle);
+  }
   double min_match_fraction =
       0.2;  // below this fraction of endpoints matched, keep the sampled pose
   // Wide-basin match (applyRealRobotPreset): before the particles are sampled, each hypothesis
@@ -167,8 +185,11 @@ struct SlamConfig {
 // that do not; the forward model reading conflict as ignorance
 // (sensor.forward_conflict_as_unknown), for the people and moved doors real logs hold; and the
 // weights' along-track prior (along_track_prior), for the corridors where a scan does not fix the
-// distance travelled; and the wider merge where a scan fixes the pose (constrained_merge_ratio),
-// which pays for the wide-basin match's time.
+// distance travelled; the wider merge where a scan fixes the pose (constrained_merge_ratio),
+// which pays for the wide-basin match's time; ICP to 30 iterations (matcher.icp_iterations); and
+// every beam of a 1° laser matched after a long step (matcher.long_step_beam_spacing = 1°), where
+// the logs whose scans are about 1 m apart (intel, aces) are less accurate at the 2° that keeps a
+// dense log (freiburg-079) above 20x real time.
 void applyRealRobotPreset(SlamConfig* config);
 
 // The run-time SLAM parameters by their ROS names (cfg/EvidentialSlam.cfg), for front ends

@@ -42,6 +42,7 @@ struct FilterStepInfo {
   double effective_sample_size = 0.0;
   double best_conflict_added_bits = 0.0;
   ScanConflict best_conflict;  // what the scan did to the best map's conflict
+  bool long_step = false;      // matched at matcher.long_step_beam_spacing (config.h)
 };
 
 class ParticleFilter {
@@ -97,7 +98,7 @@ class ParticleFilter {
   };
   NominalMatch nominalMatch(const EvidentialGridMap& map, const Pose2& predicted,
                             const std::vector<MatchPoint>& endpoints, const LaserScan& hits,
-                            const ScanModels& models) const;
+                            const ScanModels& models, const ScanMatcher& matcher) const;
   // Σ log pl of the beams of `hits` (hitBeamSubset) from `pose` on `map`.
   double wideLogPlausibility(const EvidentialGridMap& map, const Pose2& pose, const LaserScan& hits,
                              const ScanModels& models) const;
@@ -110,7 +111,7 @@ class ParticleFilter {
   std::vector<WideCandidate> wideCandidates(const EvidentialGridMap& map, const Pose2& previous,
                                             const Pose2& increment,
                                             const std::vector<MatchPoint>& endpoints,
-                                            const ScanModels& models,
+                                            const ScanMatcher& matcher,
                                             const NominalMatch& nominal) const;
   // chooseCandidate: the nominal pose or a candidate, by log plausibility on `map` (the beams of
   // `hits`) minus T · prior.

@@ -24,6 +24,7 @@ struct SlamStats {
   uint64_t rays_bad = 0;         // NaN / inf / negative ranges, skipped
   uint64_t rays_no_return = 0;   // rays flagged as no return
   uint64_t resamplings = 0;
+  uint64_t long_steps = 0;  // processed scans matched at matcher.long_step_beam_spacing
 };
 
 // The particle set at the latest scan, summarised: weighted mean and covariance of (x, y, θ)
@@ -38,9 +39,9 @@ struct ScanUpdate {
   bool processed = false;  // passed the motion gate and updated the particles
   bool rejected = false;   // the scan was unusable; `why` says why
   std::string why;
-  Pose2 best_pose;                       // best particle's pose at this scan (map frame)
-  double external_conflict_added = 0.0;  // sum of EC (bits) this scan added to the best map
-  double conflict_mass_added = 0.0;      // sum of m(∅) it added there
+  Pose2 best_pose;                         // best particle's pose at this scan (map frame)
+  double external_conflict_added = 0.0;    // sum of EC (bits) this scan added to the best map
+  double conflict_mass_added = 0.0;        // sum of m(∅) it added there
   double open_space_conflict_added = 0.0;  // ... of which in the map's open space (alarm's input)
 };
 
