@@ -100,7 +100,7 @@ struct ScanMatcherConfig {
   // gets more endpoints where it needs them and the cheaper spacing where steps are short. 0 = off.
   // applyRealRobotPreset: 1°. Every beam matched everywhere took aces-synth (seeds 1-50) from 22
   // misses of 0.3 m to 13 but freiburg-079 below 20x real time; after long steps only, fresh
-  // aces-synth seeds 61-80 missed on 8 against 12, aces (seeds 1-20) met 0.5 m on all, and
+  // aces-synth seeds 61-100 missed on 15 against 19, aces (seeds 1-20) met 0.5 m on all, and
   // freiburg-079 (9 % of its steps long) kept 21.5-22.5x (docs/experiments.md, "Every beam after
   // a long step").
   double long_step_beam_spacing = 0.0;
