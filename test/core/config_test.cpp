@@ -64,11 +64,14 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_FALSE(c.matcher.interleave_subsets);  // not shown to help (config.h)
   EXPECT_DOUBLE_EQ(c.matcher.long_step_beam_spacing, M_PI / 180.0);
   EXPECT_EQ(SlamConfig().matcher.long_step_beam_spacing, 0.0);  // off by default
+  EXPECT_DOUBLE_EQ(c.motion.alpha_rot_rot, 0.005);
+  EXPECT_DOUBLE_EQ(SlamConfig().motion.alpha_rot_rot, 0.02);
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
   EXPECT_EQ(c.matcher.search_radius, d.matcher.search_radius);
-  EXPECT_EQ(c.motion.alpha_rot_rot, d.motion.alpha_rot_rot);
+  EXPECT_EQ(c.motion.alpha_rot_trans, d.motion.alpha_rot_trans);
+  EXPECT_EQ(c.motion.alpha_trans_trans, d.motion.alpha_trans_trans);
   EXPECT_EQ(c.update_min_distance, d.update_min_distance);
   EXPECT_EQ(c.particles, d.particles);
 }

@@ -99,7 +99,7 @@ TEST(OfflineArgs, Preset) {
 
 // config/real.yaml (the node's preset) sets what --preset real sets: each of its `name: value`
 // lines, applied by ROS name to the defaults, gives applyRealRobotPreset's value, and it names
-// each of the six fields the preset changes.
+// each of the seven fields the preset changes.
 TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../config/real.yaml");
   ASSERT_TRUE(in.good());
@@ -122,7 +122,8 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   EXPECT_EQ(names,
             (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
                                    "along_track_prior", "constrained_merge_ratio",
-                                   "matcher_icp_iterations", "matcher_long_step_beam_spacing"}));
+                                   "matcher_icp_iterations", "matcher_long_step_beam_spacing",
+                                   "alpha_rot_rot"}));
   SlamConfig preset;
   applyRealRobotPreset(&preset);
   EXPECT_EQ(from_file.matcher.heading_window, preset.matcher.heading_window);
@@ -132,6 +133,7 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   EXPECT_EQ(from_file.constrained_merge_ratio, preset.constrained_merge_ratio);
   EXPECT_EQ(from_file.matcher.icp_iterations, preset.matcher.icp_iterations);
   EXPECT_EQ(from_file.matcher.long_step_beam_spacing, preset.matcher.long_step_beam_spacing);
+  EXPECT_EQ(from_file.motion.alpha_rot_rot, preset.motion.alpha_rot_rot);
   EXPECT_GT(preset.constrained_merge_ratio, 0.0);
 }
 
