@@ -119,11 +119,10 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
     EXPECT_TRUE(setSlamParameter(name, value, &from_file, &why)) << why;
     names.insert(name);
   }
-  EXPECT_EQ(names,
-            (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
-                                   "along_track_prior", "constrained_merge_ratio",
-                                   "matcher_icp_iterations", "matcher_long_step_beam_spacing",
-                                   "alpha_rot_rot"}));
+  EXPECT_EQ(names, (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
+                                          "along_track_prior", "constrained_merge_ratio",
+                                          "matcher_icp_iterations",
+                                          "matcher_long_step_beam_spacing", "alpha_rot_rot"}));
   SlamConfig preset;
   applyRealRobotPreset(&preset);
   EXPECT_EQ(from_file.matcher.heading_window, preset.matcher.heading_window);
