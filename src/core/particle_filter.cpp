@@ -37,12 +37,10 @@ PathNode::~PathNode() {
 
 struct ParticleFilter::ScanModels {
   ScanModels(const SlamConfig& config, float range_sigma)
-      : beam(config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
-        matcher(matcherConfig(config, range_sigma, false),
-                config.sensor.forSensorNoise(range_sigma, config.resolution), config.resolution),
-        long_step_matcher(matcherConfig(config, range_sigma, true),
-                          config.sensor.forSensorNoise(range_sigma, config.resolution),
-                          config.resolution) {}
+      : sensor(config.sensor.forSensorNoise(range_sigma, config.resolution)),
+        beam(sensor, config.resolution),
+        matcher(matcherConfig(config, range_sigma, false), sensor, config.resolution),
+        long_step_matcher(matcherConfig(config, range_sigma, true), sensor, config.resolution) {}
   // The matcher for this sensor; `long_step`: the one for a long step (ScanMatcherConfig::
   // isLongStep), at long_step_beam_spacing.
   ScanMatcherConfig matcherConfig(const SlamConfig& config, float range_sigma, bool long_step) {
@@ -51,6 +49,7 @@ struct ParticleFilter::ScanModels {
     if (long_step && c.long_step_beam_spacing > 0.0) c.beam_spacing = c.long_step_beam_spacing;
     return c;
   }
+  SensorModelConfig sensor;  // the models' configuration for this sensor's declared noise
   BeamModel beam;
   ScanMatcher matcher;
   ScanMatcher long_step_matcher;
