@@ -99,7 +99,7 @@ TEST(OfflineArgs, Preset) {
 
 // config/real.yaml (the node's preset) sets what --preset real sets: each of its `name: value`
 // lines, applied by ROS name to the defaults, gives applyRealRobotPreset's value, and it names
-// each of the seven fields the preset changes.
+// each of the seven fields the preset changes; the dynamic_reconfigure file mentions it.
 TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../config/real.yaml");
   ASSERT_TRUE(in.good());
@@ -134,6 +134,19 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   EXPECT_EQ(from_file.matcher.long_step_beam_spacing, preset.matcher.long_step_beam_spacing);
   EXPECT_EQ(from_file.motion.alpha_rot_rot, preset.motion.alpha_rot_rot);
   EXPECT_GT(preset.constrained_merge_ratio, 0.0);
+
+  // dynamic_reconfigure's description of each of them names the preset's value.
+  std::ifstream cfg(std::string(ES_TEST_DATA_DIR) + "/../../cfg/EvidentialSlam.cfg");
+  ASSERT_TRUE(cfg.good());
+  std::set<std::string> described;
+  while (std::getline(cfg, line)) {
+    for (const std::string& name : names) {
+      if (line.find(".add(\"" + name + "\"") == std::string::npos) continue;
+      EXPECT_NE(line.find("config/real.yaml: "), std::string::npos) << line;
+      described.insert(name);
+    }
+  }
+  EXPECT_EQ(described, names);
 }
 
 // --param NAME=VALUE sets a SLAM parameter by its ROS name, over the preset, in order.
