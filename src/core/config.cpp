@@ -142,7 +142,6 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->matcher.heading_window = 0.35;
   config->sensor.forward_conflict_as_unknown = true;
   config->along_track_prior = true;
-  config->constrained_merge_ratio = 0.5;
   config->matcher.icp_iterations = 30;
   config->matcher.long_step_beam_spacing = 0.017453292519943295;  // 1°
   config->motion.alpha_rot_rot = 0.005;

@@ -214,6 +214,7 @@ TEST(ParticleFilterTest, InterleavedSubsetsRefineOddParticlesOnTheOtherBeams) {
   SlamConfig off = filterConfig(8);
   off.merge_distance = 0.0;
   off.merge_angle = 0.0;
+  off.constrained_merge_ratio = 0.0;
   off.resample_threshold = 0.0;
   SlamConfig on = off;
   on.matcher.interleave_subsets = true;

@@ -164,11 +164,10 @@ struct SlamConfig {
   // particle's refined pose) merges its particles within constrained_merge_distance /
   // constrained_merge_angle instead. Along a corridor (ratio near 0) the spread is the filter's
   // only memory of the distance travelled, so it is kept there. Only for a laser matched point to
-  // line (a noisy laser's banded walls read as fixed everywhere). 0 = off. applyRealRobotPreset:
-  // 0.5 (freiburg-079, seeds 1-3: 23-25x real time instead of 18-19x, the same accuracy). Off by
-  // default although simul.rawlog takes 31 % less time with it at the same accuracy: the paper
-  // experiment's kidnap then changes (docs/experiments.md, "Constrained merge").
-  double constrained_merge_ratio = 0.0;
+  // line (a noisy laser's banded walls read as fixed everywhere). 0 = off. simul.rawlog (seeds
+  // 1-3) takes 31 % less time with it at the same accuracy, freiburg-079 23-25x real time instead
+  // of 18-19x (docs/experiments.md, "Constrained merge").
+  double constrained_merge_ratio = 0.5;
   double constrained_merge_distance = 0.05;  // m
   double constrained_merge_angle = 0.02;     // rad
   SensorModelConfig sensor;
@@ -186,8 +185,7 @@ struct SlamConfig {
 // that do not; the forward model reading conflict as ignorance
 // (sensor.forward_conflict_as_unknown), for the people and moved doors real logs hold; and the
 // weights' along-track prior (along_track_prior), for the corridors where a scan does not fix the
-// distance travelled; the wider merge where a scan fixes the pose (constrained_merge_ratio),
-// which pays for the wide-basin match's time; ICP to 30 iterations (matcher.icp_iterations); and
+// distance travelled; ICP to 30 iterations (matcher.icp_iterations); and
 // every beam of a 1° laser matched after a long step (matcher.long_step_beam_spacing = 1°), where
 // the logs whose scans are about 1 m apart (intel, aces) are less accurate at the 2° that keeps a
 // dense log (freiburg-079) above 20x real time; and less rotation noise from rotation
