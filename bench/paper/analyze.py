@@ -200,8 +200,8 @@ def main(world_dir, gt_path, faults_path, run_dir, out_dir):
 
     # Conflict alarm: detection delay after the kidnap, coverage of the moving object's scans, and
     # false alarms elsewhere. Fault windows: the moving object's [start, end] plus 5 s, and from the
-    # kidnap on (after it the robot maps the east corridor 2 m off to the end of the run, so the
-    # map stays inconsistent there).
+    # kidnap on (the scans placed 2 m off before the filter finds the robot again, or to the end of
+    # the run if it does not, leave the map inconsistent there).
     conflict = read_rows(os.path.join(run_dir, "conflict.csv"), 7)
     stamp, alarm = conflict[:, 0], conflict[:, 6] > 0.5
     rising = np.array(json.load(open(os.path.join(run_dir, "summary.json"))).get(

@@ -90,7 +90,7 @@ def main(out_dir):
                           "bearing_max_deg": 110.0, "distance_m": 1.0},
         # The kidnap on lap 2, near the south-east corner: true pose 2 m further east.
         "kidnap": {"x_at": 25.0, "dx": 2.0, "dy": 0.0, "dtheta": 0.0},
-        # After the kidnap the robot maps the east corridor 2 m off: its walls double there.
+        # The scans placed 2 m off after the kidnap double the east corridor's walls there.
         "kidnap_region": [W_M - c - WALL - 2.5, 0.0, W_M, 14.0 + 3.0],
     }
     with open(os.path.join(out_dir, "regions.json"), "w") as f:
