@@ -145,6 +145,7 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->matcher.icp_iterations = 30;
   config->matcher.long_step_beam_spacing = 0.017453292519943295;  // 1°
   config->motion.alpha_rot_rot = 0.005;
+  config->sensor.forward_sigma = 0.05;
 }
 
 namespace {

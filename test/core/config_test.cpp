@@ -46,7 +46,8 @@ TEST(ConfigTest, DefaultValues) {
 
 // The real-robot preset turns on the wide-basin match (±20° in 5° steps), the forward model's
 // reading of conflict as ignorance, the along-track prior, ICP to 30 iterations, 1° matching
-// after a long step and less rotation noise from rotation, and changes nothing else.
+// after a long step, less rotation noise from rotation and a wider forward model, and changes
+// nothing else.
 TEST(ConfigTest, RealRobotPreset) {
   SlamConfig c;
   applyRealRobotPreset(&c);
@@ -65,6 +66,8 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_EQ(SlamConfig().matcher.long_step_beam_spacing, 0.0);  // off by default
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_rot, 0.005);
   EXPECT_DOUBLE_EQ(SlamConfig().motion.alpha_rot_rot, 0.02);
+  EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.05);
+  EXPECT_DOUBLE_EQ(SlamConfig().sensor.forward_sigma, 0.025);
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -73,6 +76,7 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_EQ(c.motion.alpha_trans_trans, d.motion.alpha_trans_trans);
   EXPECT_EQ(c.update_min_distance, d.update_min_distance);
   EXPECT_EQ(c.constrained_merge_ratio, d.constrained_merge_ratio);
+  EXPECT_EQ(c.sensor.hit_sigma, d.sensor.hit_sigma);
   EXPECT_EQ(c.particles, d.particles);
 }
 

@@ -183,15 +183,17 @@ struct SlamConfig {
 // (matcher.heading_window = 0.35 rad), which real wheel odometry needs (heading errors up to 20°
 // between processed scans, translation reported without its sign) and which costs time on logs
 // that do not; the forward model reading conflict as ignorance
-// (sensor.forward_conflict_as_unknown), for the people and moved doors real logs hold; and the
+// (sensor.forward_conflict_as_unknown), for the people and moved doors real logs hold; the
 // weights' along-track prior (along_track_prior), for the corridors where a scan does not fix the
-// distance travelled; ICP to 30 iterations (matcher.icp_iterations); and
-// every beam of a 1° laser matched after a long step (matcher.long_step_beam_spacing = 1°), where
+// distance travelled; ICP to 30 iterations (matcher.icp_iterations); every beam of a 1° laser
+// matched after a long step (matcher.long_step_beam_spacing = 1°), where
 // the logs whose scans are about 1 m apart (intel, aces) are less accurate at the 2° that keeps a
-// dense log (freiburg-079) above 20x real time; and less rotation noise from rotation
+// dense log (freiburg-079) above 20x real time; less rotation noise from rotation
 // (motion.alpha_rot_rot = 0.005): the particles are sampled around the wide-basin match, which
 // has already taken out the odometry's heading error, and the default's spread (±8° at 1σ for a
-// 57° turn) throws them beyond what their refinement recovers.
+// 57° turn) throws them beyond what their refinement recovers; and a wider forward model
+// (sensor.forward_sigma = 0.05 m): on fresh aces-synth seeds 197-216 it missed 0.3 m on none
+// against 3 (paired Wilcoxon p = 0.03), at 10 % less CPU and 25 % more memory.
 void applyRealRobotPreset(SlamConfig* config);
 
 // The run-time SLAM parameters by their ROS names (cfg/EvidentialSlam.cfg), for front ends
