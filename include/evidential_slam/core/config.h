@@ -12,7 +12,7 @@ namespace evidential_slam {
 // Forward (plausibility) and inverse (GBT) laser models, algorithm.md §3-§4.
 struct SensorModelConfig {
   double hit_sigma = 0.025;      // σ of a hit's position along the beam (m), inverse model
-  double forward_sigma = 0.025;  // σ_f of the forward model (m)
+  double forward_sigma = 0.025;  // σ_f of the forward model (m); applyRealRobotPreset: 0.05
   double forward_window = 3.0;   // k_f: half-width of the forward hit window in σ_f
   double free_gap = 3.0;         // k_i: Θ gap left in front of a hit, in σ
   double random_weight = 0.2;    // r: random-measurement discount / plausibility floor
