@@ -192,8 +192,9 @@ struct SlamConfig {
 // (motion.alpha_rot_rot = 0.005): the particles are sampled around the wide-basin match, which
 // has already taken out the odometry's heading error, and the default's spread (±8° at 1σ for a
 // 57° turn) throws them beyond what their refinement recovers; and a wider forward model
-// (sensor.forward_sigma = 0.05 m): on fresh aces-synth seeds 197-216 it missed 0.3 m on none
-// against 3 (paired Wilcoxon p = 0.03), at 10 % less CPU and 25 % more memory.
+// (sensor.forward_sigma = 0.05 m): on fresh aces-synth seeds 197-226 it missed 0.3 m on 1 of 30
+// against 3 (0 against 3 on 197-216, where it was chosen; 1 against 0 on 217-226), at 10 % less
+// CPU and 25 % more memory there, and 14 % more CPU on freiburg-079's 0.5° scans.
 void applyRealRobotPreset(SlamConfig* config);
 
 // The run-time SLAM parameters by their ROS names (cfg/EvidentialSlam.cfg), for front ends
