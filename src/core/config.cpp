@@ -35,6 +35,8 @@ bool SensorModelConfig::isValid(std::string* why) const {
   return Checker(why)
       .require(positiveFinite(hit_sigma), "hit_sigma must be > 0")
       .require(positiveFinite(forward_sigma), "forward_sigma must be > 0")
+      .require(nonNegativeFinite(long_step_forward_sigma),
+               "long_step_forward_sigma must be >= 0 (0 = forward_sigma)")
       .require(positiveFinite(forward_window), "forward_window must be > 0")
       .require(nonNegativeFinite(free_gap), "free_gap must be >= 0")
       .require(random_weight > 0.0 && random_weight < 1.0, "random_weight must be in (0, 1)")
@@ -145,7 +147,7 @@ void applyRealRobotPreset(SlamConfig* config) {
   config->matcher.icp_iterations = 30;
   config->matcher.long_step_beam_spacing = 0.017453292519943295;  // 1°
   config->motion.alpha_rot_rot = 0.005;
-  config->sensor.forward_sigma = 0.05;
+  config->sensor.long_step_forward_sigma = 0.05;
 }
 
 namespace {
@@ -156,6 +158,7 @@ template <typename Visitor>
 void forEachSlamParameter(SlamConfig& c, Visitor&& visit) {
   visit("hit_sigma", c.sensor.hit_sigma);
   visit("forward_sigma", c.sensor.forward_sigma);
+  visit("long_step_forward_sigma", c.sensor.long_step_forward_sigma);
   visit("forward_window", c.sensor.forward_window);
   visit("free_gap", c.sensor.free_gap);
   visit("random_weight", c.sensor.random_weight);

@@ -35,14 +35,19 @@ PathNode::~PathNode() {
   }
 }
 
+// The models for one sensor noise and step length: after a long step (SlamConfig::isLongStep)
+// the matcher at matcher.long_step_beam_spacing and the forward model at
+// sensor.long_step_forward_sigma, where those are set.
 struct ParticleFilter::ScanModels {
-  ScanModels(const SlamConfig& config, float range_sigma)
-      : sensor(config.sensor.forSensorNoise(range_sigma, config.resolution)),
+  ScanModels(const SlamConfig& config, float range_sigma, bool long_step)
+      : sensor(sensorConfig(config, long_step).forSensorNoise(range_sigma, config.resolution)),
         beam(sensor, config.resolution),
-        matcher(matcherConfig(config, range_sigma, false), sensor, config.resolution),
-        long_step_matcher(matcherConfig(config, range_sigma, true), sensor, config.resolution) {}
-  // The matcher for this sensor; `long_step`: the one for a long step (ScanMatcherConfig::
-  // isLongStep), at long_step_beam_spacing.
+        matcher(matcherConfig(config, range_sigma, long_step), sensor, config.resolution) {}
+  static SensorModelConfig sensorConfig(const SlamConfig& config, bool long_step) {
+    SensorModelConfig c = config.sensor;
+    if (long_step && c.long_step_forward_sigma > 0.0) c.forward_sigma = c.long_step_forward_sigma;
+    return c;
+  }
   ScanMatcherConfig matcherConfig(const SlamConfig& config, float range_sigma, bool long_step) {
     ScanMatcherConfig c = config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
                                                         config.resolution);
@@ -52,17 +57,16 @@ struct ParticleFilter::ScanModels {
   SensorModelConfig sensor;  // the models' configuration for this sensor's declared noise
   BeamModel beam;
   ScanMatcher matcher;
-  ScanMatcher long_step_matcher;
 };
 
-const ParticleFilter::ScanModels& ParticleFilter::modelsFor(const LaserScan& scan) {
+const ParticleFilter::ScanModels& ParticleFilter::modelsFor(const LaserScan& scan, bool long_step) {
   const float sigma =
       std::isfinite(scan.range_sigma) && scan.range_sigma > 0.0f ? scan.range_sigma : 0.0f;
   for (const auto& m : models_) {
-    if (m.first == sigma) return *m.second;
+    if (m.range_sigma == sigma && m.long_step == long_step) return *m.models;
   }
-  models_.emplace_back(sigma, std::make_unique<ScanModels>(config_, sigma));
-  return *models_.back().second;
+  models_.push_back({sigma, long_step, std::make_unique<ScanModels>(config_, sigma, long_step)});
+  return *models_.back().models;
 }
 
 struct ParticleFilter::Workspace {
@@ -130,7 +134,7 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   // All particles would integrate the same scan at the same pose: do it once and share the tiles.
   Particle& first = particles_.front();
   Workspace& ws = *workspaces_.front();
-  const BeamModel* beam_model = &modelsFor(scan).beam;
+  const BeamModel* beam_model = &modelsFor(scan, false).beam;
   beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
   FilterStepInfo info;
   info.best_conflict_added_bits =
@@ -242,12 +246,11 @@ Pose2 ParticleFilter::chooseCandidate(const EvidentialGridMap& map, const Nomina
 }
 
 FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& scan, int step) {
-  const ScanModels& models = modelsFor(scan);
+  // A long odometry step has its own beam spacing and forward model (config.h).
+  const bool long_step = config_.isLongStep(std::hypot(increment.x, increment.y), increment.theta);
+  const ScanModels& models = modelsFor(scan, long_step);
   const BeamModel* beam_model = &models.beam;
-  // At long_step_beam_spacing for a long odometry step (config.h).
-  const bool long_step =
-      config_.matcher.isLongStep(std::hypot(increment.x, increment.y), increment.theta);
-  const ScanMatcher* matcher = long_step ? &models.long_step_matcher : &models.matcher;
+  const ScanMatcher* matcher = &models.matcher;
   const std::vector<MatchPoint> endpoints = matcher->endpoints(scan);
   // The refinement's interleaved beam subsets (config.h, interleave_subsets); [0] is `endpoints`.
   std::vector<std::vector<MatchPoint>> refine_subsets;

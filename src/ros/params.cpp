@@ -14,6 +14,7 @@ void forEachRuntimeParam(NodeParams& p, EvidentialSlamConfig& c, Visitor&& visit
   MotionModelConfig& m = p.slam.motion;
   visit("hit_sigma", s.hit_sigma, c.hit_sigma);
   visit("forward_sigma", s.forward_sigma, c.forward_sigma);
+  visit("long_step_forward_sigma", s.long_step_forward_sigma, c.long_step_forward_sigma);
   visit("forward_window", s.forward_window, c.forward_window);
   visit("free_gap", s.free_gap, c.free_gap);
   visit("random_weight", s.random_weight, c.random_weight);

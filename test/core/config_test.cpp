@@ -66,8 +66,9 @@ TEST(ConfigTest, RealRobotPreset) {
   EXPECT_EQ(SlamConfig().matcher.long_step_beam_spacing, 0.0);  // off by default
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_rot, 0.005);
   EXPECT_DOUBLE_EQ(SlamConfig().motion.alpha_rot_rot, 0.02);
-  EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.05);
-  EXPECT_DOUBLE_EQ(SlamConfig().sensor.forward_sigma, 0.025);
+  EXPECT_DOUBLE_EQ(c.sensor.long_step_forward_sigma, 0.05);
+  EXPECT_EQ(SlamConfig().sensor.long_step_forward_sigma, 0.0);  // off by default
+  EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.025);              // not in the preset
   c.matcher.heading_window = 0.0;
   const SlamConfig d;
   EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
@@ -109,6 +110,8 @@ TEST(ConfigTest, SetsParametersByName) {
   EXPECT_DOUBLE_EQ(c.matcher.long_step_distance, 0.9);
   ASSERT_TRUE(setSlamParameter("matcher_long_step_angle", "0.25", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.matcher.long_step_angle, 0.25);
+  ASSERT_TRUE(setSlamParameter("long_step_forward_sigma", "0.04", &c, &why)) << why;
+  EXPECT_DOUBLE_EQ(c.sensor.long_step_forward_sigma, 0.04);
   ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
   const SlamConfig d;
@@ -147,7 +150,7 @@ TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
 // Every listed name can be set, and the list has each name once.
 TEST(ConfigTest, EveryParameterNameIsSettable) {
   const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 35u);
+  EXPECT_EQ(names.size(), 36u);
   for (size_t i = 0; i < names.size(); ++i) {
     SlamConfig c;
     std::string why;
@@ -251,6 +254,11 @@ TEST(ConfigTest, DegenerateValuesAreRejected) {
   c.sensor.forward_sigma = -0.01;
   expectInvalid(c, "forward_sigma < 0");
   c = SlamConfig();
+  c.sensor.long_step_forward_sigma = -0.01;
+  expectInvalid(c, "long_step_forward_sigma < 0");
+  c.sensor.long_step_forward_sigma = std::nan("");
+  expectInvalid(c, "long_step_forward_sigma NaN");
+  c = SlamConfig();
   c.motion.alpha_trans_trans = -0.1;
   expectInvalid(c, "alpha_trans_trans < 0");
   MotionModelConfig m;
@@ -261,11 +269,10 @@ TEST(ConfigTest, DegenerateValuesAreRejected) {
 }
 
 // A long step is one at least long_step_distance long or turning at least long_step_angle either
-// way, and only while long_step_beam_spacing is on.
+// way; the SLAM treats it apart only while a long-step setting (the matcher's beam spacing or the
+// forward model's σ_f) is on.
 TEST(ConfigTest, LongStep) {
   ScanMatcherConfig m;
-  EXPECT_FALSE(m.isLongStep(5.0, 1.0));  // off by default
-  m.long_step_beam_spacing = 0.0175;
   m.long_step_distance = 0.8;
   m.long_step_angle = 0.3;
   EXPECT_FALSE(m.isLongStep(0.79, 0.29));
@@ -273,6 +280,16 @@ TEST(ConfigTest, LongStep) {
   EXPECT_TRUE(m.isLongStep(0.8, 0.0));
   EXPECT_TRUE(m.isLongStep(0.0, 0.3));
   EXPECT_TRUE(m.isLongStep(0.1, -0.31));
+
+  SlamConfig c;
+  EXPECT_FALSE(c.isLongStep(5.0, 1.0));  // off by default
+  c.matcher.long_step_beam_spacing = 0.0175;
+  EXPECT_TRUE(c.isLongStep(0.8, 0.0));
+  EXPECT_FALSE(c.isLongStep(0.79, 0.29));
+  c.matcher.long_step_beam_spacing = 0.0;
+  c.sensor.long_step_forward_sigma = 0.05;
+  EXPECT_TRUE(c.isLongStep(0.0, -0.3));
+  EXPECT_FALSE(c.isLongStep(0.5, 0.1));
 }
 
 // The component configs reject their own invalid values.

@@ -278,6 +278,35 @@ TEST(ParticleFilterTest, LongStepsAreMatchedAtTheLongStepSpacing) {
   EXPECT_FALSE(same(run(on, short_step), run(every_beam, short_step)));
 }
 
+// long_step_forward_sigma: after a long step the weights come from the forward model at that σ_f,
+// exactly as with forward_sigma set to it; after a short step from forward_sigma's.
+TEST(ParticleFilterTest, LongStepsAreWeighedAtTheLongStepForwardSigma) {
+  SlamConfig base = filterConfig(8);
+  base.resample_threshold = 0.0;
+  SlamConfig wide = base;
+  wide.sensor.forward_sigma = 0.05;
+  SlamConfig on = base;
+  on.sensor.long_step_forward_sigma = 0.05;
+  on.matcher.long_step_distance = 0.8;
+  on.matcher.long_step_angle = 0.3;
+  const Pose2 start(-1.0, 0.2, 0.0);
+  const auto run = [&](const SlamConfig& config, const Pose2& increment) {
+    ParticleFilter filter(config);
+    filter.initialize(start, roomScan(start), 0);
+    const Pose2 truth = start.compose(Pose2(increment.x - 0.05, 0.0, 0.0));  // the odometry is off
+    const FilterStepInfo info = filter.update(increment, roomScan(truth), 1);
+    EXPECT_EQ(info.long_step, config.sensor.long_step_forward_sigma > 0.0 && increment.x > 0.8);
+    std::vector<double> weights;
+    for (const Particle& p : filter.particles()) weights.push_back(p.cumulative_log_weight);
+    return weights;
+  };
+  const Pose2 long_step(0.85, 0.05, 0.05), short_step(0.5, 0.05, 0.05);
+  EXPECT_EQ(run(on, long_step), run(wide, long_step));
+  EXPECT_NE(run(on, long_step), run(base, long_step));  // σ_f matters here
+  EXPECT_EQ(run(on, short_step), run(base, short_step));
+  EXPECT_NE(run(on, short_step), run(wide, short_step));
+}
+
 // Same seed and thread count: identical results (config.h promises determinism).
 TEST(ParticleFilterTest, DeterministicForSeed) {
   ParticleFilter a(filterConfig(6)), b(filterConfig(6));

@@ -122,7 +122,7 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   EXPECT_EQ(names, (std::set<std::string>{"matcher_heading_window", "forward_conflict_as_unknown",
                                           "along_track_prior", "matcher_icp_iterations",
                                           "matcher_long_step_beam_spacing", "alpha_rot_rot",
-                                          "forward_sigma"}));
+                                          "long_step_forward_sigma"}));
   SlamConfig preset;
   applyRealRobotPreset(&preset);
   EXPECT_EQ(from_file.matcher.heading_window, preset.matcher.heading_window);
@@ -132,7 +132,7 @@ TEST(OfflineArgs, NodePresetFileMatchesThePreset) {
   EXPECT_EQ(from_file.matcher.icp_iterations, preset.matcher.icp_iterations);
   EXPECT_EQ(from_file.matcher.long_step_beam_spacing, preset.matcher.long_step_beam_spacing);
   EXPECT_EQ(from_file.motion.alpha_rot_rot, preset.motion.alpha_rot_rot);
-  EXPECT_EQ(from_file.sensor.forward_sigma, preset.sensor.forward_sigma);
+  EXPECT_EQ(from_file.sensor.long_step_forward_sigma, preset.sensor.long_step_forward_sigma);
 
   // dynamic_reconfigure's description of each of them names the preset's value.
   std::ifstream cfg(std::string(ES_TEST_DATA_DIR) + "/../../cfg/EvidentialSlam.cfg");

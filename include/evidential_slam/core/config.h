@@ -12,10 +12,15 @@ namespace evidential_slam {
 // Forward (plausibility) and inverse (GBT) laser models, algorithm.md §3-§4.
 struct SensorModelConfig {
   double hit_sigma = 0.025;      // σ of a hit's position along the beam (m), inverse model
-  double forward_sigma = 0.025;  // σ_f of the forward model (m); applyRealRobotPreset: 0.05
+  double forward_sigma = 0.025;  // σ_f of the forward model (m)
   double forward_window = 3.0;   // k_f: half-width of the forward hit window in σ_f
   double free_gap = 3.0;         // k_i: Θ gap left in front of a hit, in σ
   double random_weight = 0.2;    // r: random-measurement discount / plausibility floor
+  // σ_f after a long step (SlamConfig::isLongStep; 0 = forward_sigma there too).
+  // applyRealRobotPreset: 0.05, so the logs whose scans are about 1 m apart (intel, aces: 97-99 %
+  // of their steps long) are weighed with the wider window, and a dense log (freiburg-079: 9 %)
+  // keeps the cheaper one.
+  double long_step_forward_sigma = 0.0;
   // Share of a cell's ignorance m̃(Θ) that the forward model lets stop the beam, the rest letting
   // it pass as free space would. 1 is the paper's disjunctive rule: a beam ending in never-observed
   // space is fully plausible (pl ≈ 1), more than one ending on a mapped wall, which can favour a
@@ -94,7 +99,8 @@ struct ScanMatcherConfig {
   // same 7 as without it in fresh seeds 31-50 (docs/experiments.md, "Interleaved beam subsets").
   bool interleave_subsets = false;
   // Beam spacing (rad) for a long step: when the odometry moved at least long_step_distance or
-  // turned at least long_step_angle since the last processed scan, the whole matching (wide-basin
+  // turned at least long_step_angle since the last processed scan (isLongStep; these two also
+  // define the long step of sensor.long_step_forward_sigma), the whole matching (wide-basin
   // match and refinement) uses long_step_beam_spacing instead of beam_spacing. A long step leaves
   // the prediction further from the match and the scan less overlap with the map, so the match
   // gets more endpoints where it needs them and the cheaper spacing where steps are short. 0 = off.
@@ -106,10 +112,9 @@ struct ScanMatcherConfig {
   double long_step_beam_spacing = 0.0;
   double long_step_distance = 0.8;  // m
   double long_step_angle = 0.3;     // rad (17°)
-  // True when an odometry step of `distance` m and `angle` rad is a long step (and it is on).
+  // True when an odometry step of `distance` m and `angle` rad is long.
   bool isLongStep(double distance, double angle) const {
-    return long_step_beam_spacing > 0.0 &&
-           (distance >= long_step_distance || std::abs(angle) >= long_step_angle);
+    return distance >= long_step_distance || std::abs(angle) >= long_step_angle;
   }
   double min_match_fraction =
       0.2;  // below this fraction of endpoints matched, keep the sampled pose
@@ -175,6 +180,12 @@ struct SlamConfig {
   ScanMatcherConfig matcher;
 
   bool isValid(std::string* why) const;
+  // True when an odometry step is long (ScanMatcherConfig::isLongStep) and a long-step setting is
+  // on (matcher.long_step_beam_spacing or sensor.long_step_forward_sigma).
+  bool isLongStep(double distance, double angle) const {
+    return (matcher.long_step_beam_spacing > 0.0 || sensor.long_step_forward_sigma > 0.0) &&
+           matcher.isLongStep(distance, angle);
+  }
 };
 
 // The preset for real robots' logs (offline runner --preset real, config/real.yaml for the node):
@@ -192,9 +203,10 @@ struct SlamConfig {
 // (motion.alpha_rot_rot = 0.005): the particles are sampled around the wide-basin match, which
 // has already taken out the odometry's heading error, and the default's spread (±8° at 1σ for a
 // 57° turn) throws them beyond what their refinement recovers; and a wider forward model
-// (sensor.forward_sigma = 0.05 m): on fresh aces-synth seeds 197-226 it missed 0.3 m on 1 of 30
-// against 3 (0 against 3 on 197-216, where it was chosen; 1 against 0 on 217-226), at 10 % less
-// CPU and 25 % more memory there, and 14 % more CPU on freiburg-079's 0.5° scans.
+// after a long step (sensor.long_step_forward_sigma = 0.05 m): on fresh aces-synth seeds 197-226
+// the wider model everywhere missed 0.3 m on 1 of 30 against 3 (0 against 3 on 197-216, where it
+// was chosen; 1 against 0 on 217-226), at 10 % less CPU and 25 % more memory there, but 14 % more
+// CPU on freiburg-079's 0.5° scans, which long steps only spares.
 void applyRealRobotPreset(SlamConfig* config);
 
 // The run-time SLAM parameters by their ROS names (cfg/EvidentialSlam.cfg), for front ends

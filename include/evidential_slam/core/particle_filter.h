@@ -121,9 +121,15 @@ class ParticleFilter {
 
   SlamConfig config_;
   std::vector<Particle> particles_;
-  // Sensor and matcher models per declared range noise (a log has one or a few lasers).
-  const ScanModels& modelsFor(const LaserScan& scan);
-  std::vector<std::pair<float, std::unique_ptr<ScanModels>>> models_;
+  // Sensor and matcher models per declared range noise (a log has one or a few lasers) and step
+  // length.
+  const ScanModels& modelsFor(const LaserScan& scan, bool long_step);
+  struct CachedModels {
+    float range_sigma;
+    bool long_step;
+    std::unique_ptr<ScanModels> models;
+  };
+  std::vector<CachedModels> models_;
   std::unique_ptr<WorkerPool> pool_;
   std::vector<std::unique_ptr<Workspace>> workspaces_;  // one per worker thread
   uint64_t resample_counter_ = 0;

@@ -24,7 +24,7 @@ struct SlamStats {
   uint64_t rays_bad = 0;         // NaN / inf / negative ranges, skipped
   uint64_t rays_no_return = 0;   // rays flagged as no return
   uint64_t resamplings = 0;
-  uint64_t long_steps = 0;  // processed scans matched at matcher.long_step_beam_spacing
+  uint64_t long_steps = 0;  // processed scans after a long step (SlamConfig::isLongStep)
 };
 
 // The particle set at the latest scan, summarised: weighted mean and covariance of (x, y, θ)

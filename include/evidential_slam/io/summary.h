@@ -40,7 +40,7 @@ struct RunSummary {
   uint64_t rays_bad = 0;  // NaN / inf / negative, skipped
   uint64_t rays_no_return = 0;
   uint64_t resamplings = 0;
-  uint64_t long_steps = 0;  // processed scans matched at matcher.long_step_beam_spacing
+  uint64_t long_steps = 0;  // processed scans after a long step (SlamConfig::isLongStep)
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;  // inside processScan only
   double peak_rss_mb = 0.0;
