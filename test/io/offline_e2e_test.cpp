@@ -344,8 +344,8 @@ TEST_F(OfflineE2E, MaxScans) {
 // Regression on a real robot: Radish's ACES log (440 scans, 22 minutes) with its raw wheel odometry
 // (benchmark data outside the package: shared/ beside the clone, or $ES_RADISH_DIR), mapped with
 // the real robots' preset at issue 6's K = 100 (about 40 s on 2 cores). Odometry alone is off by
-// 5.4 m RMSE; SLAM must stay within issue 6's target, 0.5 m (seeds 1-10 gave 0.15-0.25 m; seed 1,
-// run here, 0.244 m: README, "Real robot logs"). At K = 30 an earlier preset ran it in 10 s but
+// 5.4 m RMSE; SLAM must stay within issue 6's target, 0.5 m (seeds 1-10 gave 0.11-0.22 m; seed 1,
+// run here, 0.148 m: README, "Real robot logs"). At K = 30 an earlier preset ran it in 10 s but
 // was not robust there: seeds 1-3 gave 0.19, 0.45, 0.63 m. Skipped, saying why, where the logs
 // are absent.
 TEST_F(OfflineE2E, RealRobotLogWithRawOdometry) {
