@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_set>
 #include <vector>
@@ -242,69 +243,73 @@ TEST(ParticleFilterTest, InterleavedSubsetsRefineOddParticlesOnTheOtherBeams) {
   }
 }
 
+// The particles after one update of a filter started at `start` in roomScan's room, with an
+// odometry increment 5 cm longer than the robot went; the step must be long exactly when
+// `long_step` says.
+std::vector<Particle> afterOneStep(const SlamConfig& config, const Pose2& increment,
+                                   bool long_step) {
+  const Pose2 start(-1.0, 0.2, 0.0);
+  ParticleFilter filter(config);
+  filter.initialize(start, roomScan(start), 0);
+  const Pose2 truth = start.compose(Pose2(increment.x - 0.05, 0.0, 0.0));
+  EXPECT_EQ(filter.update(increment, roomScan(truth), 1).long_step, long_step);
+  return filter.particles();
+}
+
+// A filter config without resampling whose long steps are 0.8 m or 0.3 rad.
+SlamConfig longStepConfig() {
+  SlamConfig c = filterConfig(8);
+  c.resample_threshold = 0.0;
+  c.matcher.long_step_distance = 0.8;
+  c.matcher.long_step_angle = 0.3;
+  return c;
+}
+
+// A long-step setting, on in `on`: after a long step the filter behaves as `everywhere` (the
+// setting's value on every step), after a short one as `base` (without it), as `observe` sees the
+// particles; and the setting makes a difference both ways.
+template <typename Observe>
+void expectLongStepSetting(const SlamConfig& base, const SlamConfig& on,
+                           const SlamConfig& everywhere, Observe observe) {
+  const Pose2 long_step(0.85, 0.05, 0.05), short_step(0.5, 0.05, 0.05);
+  const auto run = [&](const SlamConfig& config, const Pose2& increment, bool long_step) {
+    return observe(afterOneStep(config, increment, long_step));
+  };
+  EXPECT_EQ(run(on, long_step, true), run(everywhere, long_step, false));
+  EXPECT_NE(run(on, long_step, true), run(base, long_step, false));
+  EXPECT_EQ(run(on, short_step, false), run(base, short_step, false));
+  EXPECT_NE(run(on, short_step, false), run(everywhere, short_step, false));
+}
+
 // long_step_beam_spacing: a step at least long_step_distance long (or turning long_step_angle) is
 // matched at that spacing, a shorter one at beam_spacing. roomScan's 1° beams: the long step is
 // matched on every beam, exactly as with beam_spacing 1°; the short one as without the option.
 TEST(ParticleFilterTest, LongStepsAreMatchedAtTheLongStepSpacing) {
-  SlamConfig base = filterConfig(8);
-  base.resample_threshold = 0.0;
+  const SlamConfig base = longStepConfig();
   SlamConfig every_beam = base;
   every_beam.matcher.beam_spacing = 0.017453292519943295;
   SlamConfig on = base;
   on.matcher.long_step_beam_spacing = 0.017453292519943295;
-  on.matcher.long_step_distance = 0.8;
-  on.matcher.long_step_angle = 0.3;
-  const Pose2 start(-1.0, 0.2, 0.0);
-  const auto run = [&](const SlamConfig& config, const Pose2& increment) {
-    ParticleFilter filter(config);
-    filter.initialize(start, roomScan(start), 0);
-    const Pose2 truth = start.compose(Pose2(increment.x - 0.05, 0.0, 0.0));  // the odometry is off
-    const FilterStepInfo info = filter.update(increment, roomScan(truth), 1);
-    EXPECT_EQ(info.long_step, config.matcher.long_step_beam_spacing > 0.0 && increment.x > 0.8);
-    std::vector<Pose2> poses;
-    for (const Particle& p : filter.particles()) poses.push_back(p.pose);
+  expectLongStepSetting(base, on, every_beam, [](const std::vector<Particle>& particles) {
+    std::vector<std::array<double, 3>> poses;
+    for (const Particle& p : particles) poses.push_back({p.pose.x, p.pose.y, p.pose.theta});
     return poses;
-  };
-  const auto same = [](const std::vector<Pose2>& a, const std::vector<Pose2>& b) {
-    for (size_t i = 0; i < a.size(); ++i) {
-      if (a[i].x != b[i].x || a[i].y != b[i].y || a[i].theta != b[i].theta) return false;
-    }
-    return a.size() == b.size();
-  };
-  const Pose2 long_step(0.85, 0.05, 0.05), short_step(0.5, 0.05, 0.05);
-  EXPECT_TRUE(same(run(on, long_step), run(every_beam, long_step)));
-  EXPECT_FALSE(same(run(on, long_step), run(base, long_step)));  // the spacing matters here
-  EXPECT_TRUE(same(run(on, short_step), run(base, short_step)));
-  EXPECT_FALSE(same(run(on, short_step), run(every_beam, short_step)));
+  });
 }
 
 // long_step_forward_sigma: after a long step the weights come from the forward model at that σ_f,
 // exactly as with forward_sigma set to it; after a short step from forward_sigma's.
 TEST(ParticleFilterTest, LongStepsAreWeighedAtTheLongStepForwardSigma) {
-  SlamConfig base = filterConfig(8);
-  base.resample_threshold = 0.0;
+  const SlamConfig base = longStepConfig();
   SlamConfig wide = base;
   wide.sensor.forward_sigma = 0.05;
   SlamConfig on = base;
   on.sensor.long_step_forward_sigma = 0.05;
-  on.matcher.long_step_distance = 0.8;
-  on.matcher.long_step_angle = 0.3;
-  const Pose2 start(-1.0, 0.2, 0.0);
-  const auto run = [&](const SlamConfig& config, const Pose2& increment) {
-    ParticleFilter filter(config);
-    filter.initialize(start, roomScan(start), 0);
-    const Pose2 truth = start.compose(Pose2(increment.x - 0.05, 0.0, 0.0));  // the odometry is off
-    const FilterStepInfo info = filter.update(increment, roomScan(truth), 1);
-    EXPECT_EQ(info.long_step, config.sensor.long_step_forward_sigma > 0.0 && increment.x > 0.8);
+  expectLongStepSetting(base, on, wide, [](const std::vector<Particle>& particles) {
     std::vector<double> weights;
-    for (const Particle& p : filter.particles()) weights.push_back(p.cumulative_log_weight);
+    for (const Particle& p : particles) weights.push_back(p.cumulative_log_weight);
     return weights;
-  };
-  const Pose2 long_step(0.85, 0.05, 0.05), short_step(0.5, 0.05, 0.05);
-  EXPECT_EQ(run(on, long_step), run(wide, long_step));
-  EXPECT_NE(run(on, long_step), run(base, long_step));  // σ_f matters here
-  EXPECT_EQ(run(on, short_step), run(base, short_step));
-  EXPECT_NE(run(on, short_step), run(wide, short_step));
+  });
 }
 
 // Same seed and thread count: identical results (config.h promises determinism).
