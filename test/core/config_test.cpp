@@ -45,8 +45,8 @@ TEST(ConfigTest, DefaultValues) {
 }
 
 // The real-robot preset turns on the wide-basin match (±20° in 5° steps), the forward model's
-// reading of conflict as ignorance, the along-track prior, ICP to 30 iterations, 1° matching
-// after a long step, less rotation noise from rotation and a wider forward model, and changes
+// reading of conflict as ignorance, the along-track prior, ICP to 30 iterations, less rotation
+// noise from rotation, and after a long step 1° matching and a wider forward model; it changes
 // nothing else.
 TEST(ConfigTest, RealRobotPreset) {
   SlamConfig c;
