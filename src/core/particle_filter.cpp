@@ -441,10 +441,19 @@ void ParticleFilter::resampleIfNeeded(FilterStepInfo* info) {
   }
   Rng rng = Rng::forStream(config_.seed, 0xA5A5A5A5ull, resample_counter_++);
   const std::vector<size_t> parents = systematicResample(w, rng.uniform());
+  // A child copies its parent (the map copy shares every tile); a parent's last child takes it
+  // over instead, sparing a copy of the tile pointers and their reference counts.
+  std::vector<size_t> last_child(particles_.size(), 0);
+  for (size_t i = 0; i < parents.size(); ++i) last_child[parents[i]] = i;
   std::vector<Particle> next;
   next.reserve(particles_.size());
-  for (size_t parent : parents) {
-    next.push_back(particles_[parent]);  // the map copy shares every tile
+  for (size_t i = 0; i < parents.size(); ++i) {
+    Particle& parent = particles_[parents[i]];
+    if (last_child[parents[i]] == i) {
+      next.push_back(std::move(parent));
+    } else {
+      next.push_back(parent);
+    }
     next.back().log_weight = 0.0;
   }
   particles_ = std::move(next);

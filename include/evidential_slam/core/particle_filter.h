@@ -42,7 +42,7 @@ struct FilterStepInfo {
   double effective_sample_size = 0.0;
   double best_conflict_added_bits = 0.0;
   ScanConflict best_conflict;  // what the scan did to the best map's conflict
-  bool long_step = false;      // matched at matcher.long_step_beam_spacing (config.h)
+  bool long_step = false;      // a long odometry step (SlamConfig::isLongStep)
 };
 
 class ParticleFilter {
