@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <unordered_set>
 #include <vector>
 
@@ -175,6 +176,48 @@ TEST(ParticleFilterTest, UpdateInvariants) {
     EXPECT_NEAR(max_log, 0.0, 1e-12);
     EXPECT_DOUBLE_EQ(filter.best().cumulative_log_weight, max_cum);
   }
+}
+
+// Resampling: a parent drawn several times gives each child a whole copy of itself (the last child
+// takes the parent over, the others copy it), so every child has its parent's pose, path and map.
+// resample_threshold 1 resamples whenever the weights differ; without merging, every particle is
+// its own hypothesis before it.
+TEST(ParticleFilterTest, ResampledChildrenAreWholeCopiesOfTheirParents) {
+  SlamConfig config = filterConfig(8);
+  config.resample_threshold = 1.0;
+  config.merge_distance = 0.0;
+  config.merge_angle = 0.0;
+  config.constrained_merge_ratio = 0.0;
+  ParticleFilter filter(config);
+  const Pose2 start(-1.0, 0.2, 0.0);
+  filter.initialize(start, roomScan(start), 0);
+  const Pose2 increment(0.5, 0.05, 0.05);
+  const FilterStepInfo info =
+      filter.update(increment, roomScan(start.compose(Pose2(0.45, 0.0, 0.0))), 1);
+  ASSERT_TRUE(info.resampled);
+  std::map<uint64_t, const Particle*> first_of_map;
+  size_t copies = 0;
+  for (const Particle& p : filter.particles()) {
+    ASSERT_NE(p.path, nullptr);
+    EXPECT_EQ(p.path->step, 1);
+    EXPECT_EQ(p.path->pose.x, p.pose.x);
+    EXPECT_FALSE(p.map.observedBox().empty());
+    const auto found = first_of_map.find(p.map_id);
+    if (found == first_of_map.end()) {
+      first_of_map[p.map_id] = &p;
+      continue;
+    }
+    ++copies;  // a sibling: the same pose, path node and tiles
+    const Particle& sibling = *found->second;
+    EXPECT_EQ(p.pose.x, sibling.pose.x);
+    EXPECT_EQ(p.pose.theta, sibling.pose.theta);
+    EXPECT_EQ(p.path, sibling.path);
+    std::unordered_set<const EvidentialGridMap::Tile*> seen;
+    const size_t bytes = sibling.map.accumulateUniqueTileBytes(&seen);
+    EXPECT_GT(bytes, 0u);
+    EXPECT_EQ(p.map.accumulateUniqueTileBytes(&seen), 0u);  // every tile shared with the sibling
+  }
+  EXPECT_GT(copies, 0u);  // some parent was drawn more than once
 }
 
 // along_track_prior adds to each particle's weight the log prior of how far it went along the
