@@ -365,6 +365,14 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     group_of[k] = g;
   }
   last_groups_ = leaders.size();
+  // A member takes its leader's map after the update (5.), so it lets go of its own now: the
+  // last group writing a tile of their common map then writes it in place instead of cloning it,
+  // and the old tile is not kept alive until 5.
+  for (size_t k = 0; k < n; ++k) {
+    if (k != leaders[group_of[k]]) {
+      particles_[k].map = EvidentialGridMap(particles_[k].map.resolution());
+    }
+  }
 
   // 4. Weight and map update, once per group.
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);

@@ -468,6 +468,43 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
   EXPECT_GT(separate.mapMemoryBytes(), one_map);
 }
 
+// A group's members let go of their maps before the group's leader integrates the scan (they
+// take the leader's afterwards), so a group of all 8 particles writes its one map in place: every
+// tile allocated before the update is the same tile after it, none cloned.
+TEST(ParticleFilterTest, OneGroupWritesItsMapInPlace) {
+  SlamConfig config;
+  config.particles = 8;
+  config.threads = 1;
+  config.matcher.enabled = false;
+  config.motion = testing_room::noiselessMotion();
+  const Pose2 start(0.01, 0.02, 0.0);
+  const Pose2 step(0.2, 0.0, 0.0);
+  ParticleFilter filter(config);
+  filter.initialize(start, roomScan(start), 0);
+  const auto tilesOf = [](const EvidentialGridMap& map) {
+    std::map<std::pair<int, int>, const EvidentialGridMap::Tile*> tiles;
+    const CellBox box = map.allocatedBox();
+    for (int ty = box.min_y >> EvidentialGridMap::kTileBits;
+         ty <= box.max_y >> EvidentialGridMap::kTileBits; ++ty) {
+      for (int tx = box.min_x >> EvidentialGridMap::kTileBits;
+           tx <= box.max_x >> EvidentialGridMap::kTileBits; ++tx) {
+        if (map.tile(tx, ty) != nullptr) tiles[{tx, ty}] = map.tile(tx, ty);
+      }
+    }
+    return tiles;
+  };
+  const auto before = tilesOf(filter.particles()[0].map);
+  ASSERT_FALSE(before.empty());
+  filter.update(step, roomScan(start.compose(step)), 1);
+  ASSERT_EQ(filter.lastUpdateGroups(), 1u);
+  const auto after = tilesOf(filter.particles()[0].map);
+  for (const auto& [where, tile] : before) {
+    ASSERT_EQ(after.count(where), 1u);
+    EXPECT_EQ(after.at(where), tile) << "tile " << where.first << " " << where.second;
+  }
+  for (const Particle& p : filter.particles()) EXPECT_EQ(tilesOf(p.map), after);
+}
+
 // The wide-basin match (preset real) recovers a heading error ICP alone does not: after one update
 // without merging (merge_distance 0, constrained_merge_ratio 0) the 8 particles have 8 maps (8
 // hypotheses), and when the next odometry increment is 0.9 rad (52°) off in heading, which ICP from
