@@ -7,12 +7,14 @@ namespace evidential_slam {
 
 const Cell EvidentialGridMap::kVacuousCell{};
 
+const EvidentialGridMap::Tile::Rows EvidentialGridMap::Tile::kNoRows{};
+
 EvidentialGridMap::Tile::Tile(const Tile& other)
-    : cells(other.cells), may_hold_occupied_(other.may_hold_occupied_) {
+    : cells(other.cells), may_hold_occupied_(copyOf(other.may_hold_occupied_)) {
   // The source is shared and not written meanwhile; its rows may be being built by a reader, in
   // which case the clone builds its own when asked.
   if (other.rows_state_.load(std::memory_order_acquire) == kRowsReady) {
-    rows_ = other.rows_;
+    rows_ = copyOf(other.rows_);
     rows_threshold_ = other.rows_threshold_;
     rows_state_.store(kRowsReady, std::memory_order_relaxed);
   }
@@ -21,27 +23,36 @@ EvidentialGridMap::Tile::Tile(const Tile& other)
 const EvidentialGridMap::Tile::Rows& EvidentialGridMap::Tile::occupiedRows(float threshold,
                                                                            Rows* scratch) const {
   int state = rows_state_.load(std::memory_order_acquire);
-  if (state == kRowsReady && rows_threshold_ == threshold) return rows_;
+  if (state == kRowsReady && rows_threshold_ == threshold) return rows_ ? *rows_ : kNoRows;
   if (state == kRowsNone &&
       rows_state_.compare_exchange_strong(state, kRowsBuilding, std::memory_order_acq_rel)) {
-    buildOccupiedRows(threshold, &rows_);
+    if (buildOccupiedRows(threshold, scratch)) rows_ = std::make_unique<Rows>(*scratch);
     rows_threshold_ = threshold;
     rows_state_.store(kRowsReady, std::memory_order_release);
-    return rows_;
+    return rows_ ? *rows_ : kNoRows;
   }
   buildOccupiedRows(threshold, scratch);
   return *scratch;
 }
 
-void EvidentialGridMap::Tile::buildOccupiedRows(float threshold, Rows* rows) const {
+bool EvidentialGridMap::Tile::buildOccupiedRows(float threshold, Rows* rows) const {
+  // With a positive threshold a target cell holds m̃(o) > 0, so rows without a may-hold-occupied
+  // bit are skipped unread.
+  const bool skip_empty_rows = threshold > 0.0f;
+  uint32_t any = 0;
   for (int y = 0; y < kTileSize; ++y) {
     uint32_t bits = 0;
-    const Cell* row = &cells[static_cast<size_t>(y) * kTileSize];
-    for (int x = 0; x < kTileSize; ++x) {
-      bits |= static_cast<uint32_t>(isTarget(row[x], threshold)) << x;
+    if (!skip_empty_rows ||
+        (may_hold_occupied_ && (*may_hold_occupied_)[static_cast<size_t>(y)] != 0)) {
+      const Cell* row = &cells[static_cast<size_t>(y) * kTileSize];
+      for (int x = 0; x < kTileSize; ++x) {
+        bits |= static_cast<uint32_t>(isTarget(row[x], threshold)) << x;
+      }
     }
     (*rows)[static_cast<size_t>(y)] = bits;
+    any |= bits;
   }
+  return any != 0;
 }
 
 void CellBox::extend(const CellBox& other) {
@@ -147,7 +158,7 @@ size_t EvidentialGridMap::allocatedTiles() const {
 size_t EvidentialGridMap::accumulateUniqueTileBytes(std::unordered_set<const Tile*>* seen) const {
   size_t bytes = 0;
   for (const auto& t : tiles_) {
-    if (t && seen->insert(t.get()).second) bytes += sizeof(Tile);
+    if (t && seen->insert(t.get()).second) bytes += sizeof(Tile) + t->bitmapBytes();
   }
   return bytes;
 }

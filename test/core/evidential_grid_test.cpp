@@ -363,5 +363,50 @@ TEST(EvidentialGridTest, MayHoldOccupiedBitsFollowWrittenCells) {
   EXPECT_FALSE(b.tile(0, 0)->mayHoldOccupied(7));
 }
 
+// A tile's two bitmaps take memory only once one of their bits is set: none on a tile of free
+// cells, the may-hold-occupied bits at its first m̃(o) > 0, the occupied rows when built with a
+// cell at the threshold or when a write later puts one there. A clone copies what is allocated.
+TEST(EvidentialGridTest, TileBitmapsAreAllocatedAtTheirFirstSetBit) {
+  using Rows = EvidentialGridMap::Tile::Rows;
+  constexpr float kThreshold = 0.25f;
+  EvidentialGridMap a(0.05);
+  EvidentialGridMap::Tile& tile = a.mutableTile(0, 0);
+  EXPECT_EQ(tile.bitmapBytes(), 0u);
+  tile.cells[3] = Cell::fromStored(0.0f, 0.9f, 0.5f);  // free and conflicting: no m̃(o)
+  tile.cellWritten(3);
+  EXPECT_EQ(tile.bitmapBytes(), 0u);
+  Rows scratch{};
+  const Rows& none = tile.occupiedRows(kThreshold, &scratch);  // built: no cell at the threshold
+  EXPECT_NE(&none, &scratch);
+  for (const uint32_t word : none) EXPECT_EQ(word, 0u);
+  EXPECT_EQ(tile.bitmapBytes(), 0u);
+
+  tile.cells[70] = Cell::fromStored(0.1f, 0.5f, 0.0f);  // m̃(o) > 0, below the threshold
+  tile.cellWritten(70);
+  EXPECT_EQ(tile.bitmapBytes(), sizeof(Rows));
+  EXPECT_TRUE(tile.mayHoldOccupied(70));
+  EXPECT_EQ(tile.occupiedRows(kThreshold, &scratch)[2], 0u);
+
+  tile.cells[71] = Cell::fromStored(0.6f, 0.1f, 0.0f);  // at the threshold: the rows appear
+  tile.cellWritten(71);
+  EXPECT_EQ(tile.bitmapBytes(), 2 * sizeof(Rows));
+  const Rows& rows = tile.occupiedRows(kThreshold, &scratch);
+  EXPECT_NE(&rows, &scratch);
+  EXPECT_EQ(rows[2], 1u << 7);
+
+  EvidentialGridMap b = a;
+  const EvidentialGridMap::Tile& clone = b.mutableTile(0, 0);
+  ASSERT_NE(&clone, &tile);
+  EXPECT_EQ(clone.bitmapBytes(), 2 * sizeof(Rows));
+  EXPECT_EQ(clone.occupiedRows(kThreshold, &scratch)[2], 1u << 7);
+
+  // A tile built before any bit is set, cloned: nothing allocated in either.
+  EvidentialGridMap c(0.05);
+  c.mutableTile(5, 5).cellWritten(0);
+  EvidentialGridMap d = c;
+  EXPECT_EQ(d.mutableTile(5, 5).bitmapBytes(), 0u);
+  EXPECT_EQ(c.tile(5, 5)->bitmapBytes(), 0u);
+}
+
 }  // namespace
 }  // namespace evidential_slam

@@ -49,54 +49,75 @@ class EvidentialGridMap {
 
     std::array<Cell, kTileCells> cells{};
 
-    // One bit per cell whose m̃(o) ≥ threshold, a 32-bit word per row (bit x of word y is the
-    // cell at (x, y) in the tile): the scan matcher's correspondence search scans rows of it
-    // instead of reading cells one by one. Built in the tile on the first call (for the first
-    // threshold asked), so the particles sharing a tile build it once, and kept through clones
-    // and map updates (cellWritten). Readers may call it concurrently (a tile is never written
-    // while others read it: copy on write); a reader that finds the rows being built, or built
-    // for another threshold, gets them built in `scratch`.
+    // Two bitmaps per tile, a 32-bit word per row (bit x of word y is the cell at (x, y) in the
+    // tile), each allocated only once a bit of it is set: most tiles hold no occupied mass at
+    // all (open space), and a bitmap is 1.5 % of a tile.
     using Rows = std::array<uint32_t, kTileSize>;
+    // The occupied rows: one bit per cell whose m̃(o) ≥ threshold. The scan matcher's
+    // correspondence search scans rows of it instead of reading cells one by one. Built in the
+    // tile on the first call (for the first threshold asked), so the particles sharing a tile
+    // build it once, and kept through clones and map updates (cellWritten). Readers may call it
+    // concurrently (a tile is never written while others read it: copy on write); a reader that
+    // finds the rows being built, or built for another threshold, gets them built in `scratch`.
     const Rows& occupiedRows(float threshold, Rows* scratch) const;
-    // One bit per cell whose m̃(o) may be above 0, a word per row, always kept (a clear bit: the
-    // cell holds no occupied mass). Far from a beam's measured range the forward model needs only
-    // a cell's m̃(o), so it reads these 128 bytes instead of the cells where that is 0: most of
-    // the free space, never hit.
+    // One bit per cell whose m̃(o) may be above 0, always kept (a clear bit: the cell holds no
+    // occupied mass). Far from a beam's measured range the forward model needs only a cell's
+    // m̃(o), so it reads these bits instead of the cells where that is 0: most of the free space,
+    // never hit.
     bool mayHoldOccupied(int k) const {
-      return ((may_hold_occupied_[static_cast<size_t>(k >> kTileBits)] >> (k & (kTileSize - 1))) &
-              1u) != 0;
+      const Rows* may = may_hold_occupied_.get();
+      return may != nullptr &&
+             (((*may)[static_cast<size_t>(k >> kTileBits)] >> (k & (kTileSize - 1))) & 1u) != 0;
     }
     // Whoever writes cells of a tile it owns (mutableTile) keeps the rows and bits true:
     // cellWritten(k) after writing cells[k]; after writing cells otherwise, dropOccupiedRows() and
     // markMayHoldOccupied(k) for each.
     void markMayHoldOccupied(int k) {
-      may_hold_occupied_[static_cast<size_t>(k >> kTileBits)] |= 1u << (k & (kTileSize - 1));
+      setBit(&may_hold_occupied_, static_cast<size_t>(k >> kTileBits), k & (kTileSize - 1), true);
     }
-    // (A word is stored only when its bit changes, which is rare: consecutive cells of a row then
-    // do not wait for each other's store.)
     void cellWritten(int k) {
       const int x = k & (kTileSize - 1);
       const size_t y = static_cast<size_t>(k >> kTileBits);
       const Cell& cell = cells[static_cast<size_t>(k)];
-      setBit(&may_hold_occupied_[y], x, cell.occupied() > 0.0f);
+      setBit(&may_hold_occupied_, y, x, cell.occupied() > 0.0f);
       if (rows_state_.load(std::memory_order_relaxed) != kRowsReady) return;
-      setBit(&rows_[y], x, isTarget(cell, rows_threshold_));
+      setBit(&rows_, y, x, isTarget(cell, rows_threshold_));
     }
     // The rows' bit of a cell: m̃(o) at or above the threshold.
     static bool isTarget(const Cell& c, float threshold) { return c.occupied() >= threshold; }
-    void dropOccupiedRows() { rows_state_.store(kRowsNone, std::memory_order_release); }
+    void dropOccupiedRows() {
+      rows_state_.store(kRowsNone, std::memory_order_release);
+      rows_.reset();
+    }
+    // Bytes of the bitmaps allocated (beside sizeof(Tile)).
+    size_t bitmapBytes() const {
+      return (may_hold_occupied_ ? sizeof(Rows) : 0) + (rows_ ? sizeof(Rows) : 0);
+    }
 
    private:
-    static void setBit(uint32_t* word, int x, bool value) {
-      if ((((*word >> x) & 1u) != 0) != value) *word ^= 1u << x;
+    // Sets bit x of word y of *rows to `value`, allocating the (zeroed) bitmap for its first set
+    // bit. (A word is stored only when its bit changes, which is rare: consecutive cells of a row
+    // then do not wait for each other's store.)
+    static void setBit(std::unique_ptr<Rows>* rows, size_t y, int x, bool value) {
+      if (!*rows) {
+        if (!value) return;
+        *rows = std::make_unique<Rows>();
+      }
+      uint32_t& word = (**rows)[y];
+      if ((((word >> x) & 1u) != 0) != value) word ^= 1u << x;
+    }
+    static std::unique_ptr<Rows> copyOf(const std::unique_ptr<Rows>& rows) {
+      return rows ? std::make_unique<Rows>(*rows) : nullptr;
     }
     enum : int { kRowsNone = 0, kRowsBuilding = 1, kRowsReady = 2 };
-    void buildOccupiedRows(float threshold, Rows* rows) const;
+    // Fills *rows; false when no bit is set.
+    bool buildOccupiedRows(float threshold, Rows* rows) const;
 
-    Rows may_hold_occupied_{};
+    std::unique_ptr<Rows> may_hold_occupied_;  // null: no bit set
     mutable std::atomic<int> rows_state_{kRowsNone};
     mutable float rows_threshold_ = 0.0f;
-    mutable Rows rows_{};
+    mutable std::unique_ptr<Rows> rows_;  // when ready, null: no cell at the threshold
+    static const Rows kNoRows;
   };
 
   EvidentialGridMap() : EvidentialGridMap(0.05) {}
