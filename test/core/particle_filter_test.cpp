@@ -128,6 +128,15 @@ SlamConfig filterConfig(int particles) {
   return c;
 }
 
+// filterConfig without merging: every particle is a group (and a hypothesis) of its own.
+SlamConfig unmergedConfig(int particles) {
+  SlamConfig c = filterConfig(particles);
+  c.merge_distance = 0.0;
+  c.merge_angle = 0.0;
+  c.constrained_merge_ratio = 0.0;
+  return c;
+}
+
 // initialize(): K particles at the given pose, all sharing one map (copy-on-write tiles), so the
 // filter's map memory equals that of a single map.
 TEST(ParticleFilterTest, InitializeSharesOneMap) {
@@ -183,11 +192,8 @@ TEST(ParticleFilterTest, UpdateInvariants) {
 // resample_threshold 1 resamples whenever the weights differ; without merging, every particle is
 // its own hypothesis before it.
 TEST(ParticleFilterTest, ResampledChildrenAreWholeCopiesOfTheirParents) {
-  SlamConfig config = filterConfig(8);
+  SlamConfig config = unmergedConfig(8);
   config.resample_threshold = 1.0;
-  config.merge_distance = 0.0;
-  config.merge_angle = 0.0;
-  config.constrained_merge_ratio = 0.0;
   ParticleFilter filter(config);
   const Pose2 start(-1.0, 0.2, 0.0);
   filter.initialize(start, roomScan(start), 0);
@@ -255,10 +261,7 @@ TEST(ParticleFilterTest, AlongTrackPriorEntersTheWeights) {
 // ones, refined on the other beams, elsewhere. No merging and no resampling: each particle keeps
 // its own refined pose.
 TEST(ParticleFilterTest, InterleavedSubsetsRefineOddParticlesOnTheOtherBeams) {
-  SlamConfig off = filterConfig(8);
-  off.merge_distance = 0.0;
-  off.merge_angle = 0.0;
-  off.constrained_merge_ratio = 0.0;
+  SlamConfig off = unmergedConfig(8);
   off.resample_threshold = 0.0;
   SlamConfig on = off;
   on.matcher.interleave_subsets = true;
