@@ -486,14 +486,10 @@ TEST(ParticleFilterTest, OneGroupWritesItsMapInPlace) {
   filter.initialize(start, roomScan(start), 0);
   const auto tilesOf = [](const EvidentialGridMap& map) {
     std::map<std::pair<int, int>, const EvidentialGridMap::Tile*> tiles;
-    const CellBox box = map.allocatedBox();
-    for (int ty = box.min_y >> EvidentialGridMap::kTileBits;
-         ty <= box.max_y >> EvidentialGridMap::kTileBits; ++ty) {
-      for (int tx = box.min_x >> EvidentialGridMap::kTileBits;
-           tx <= box.max_x >> EvidentialGridMap::kTileBits; ++tx) {
-        if (map.tile(tx, ty) != nullptr) tiles[{tx, ty}] = map.tile(tx, ty);
-      }
-    }
+    testing_room::forEachAllocatedTile(map,
+                                       [&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
+                                         tiles[{tx, ty}] = &tile;
+                                       });
     return tiles;
   };
   const auto before = tilesOf(filter.particles()[0].map);
@@ -509,21 +505,18 @@ TEST(ParticleFilterTest, OneGroupWritesItsMapInPlace) {
 }
 
 // The wide-basin match (preset real) recovers a heading error ICP alone does not: after one update
-// without merging (merge_distance 0, constrained_merge_ratio 0) the 8 particles have 8 maps (8
-// hypotheses), and when the next odometry increment is 0.9 rad (52°) off in heading, which ICP from
-// the prediction does not recover (point to line recovers 0.6 rad in this small room), each
-// hypothesis runs the multi-start search over ±0.95 rad and every particle is brought back onto the
-// truth. With the search off (preset sim) ICP alone stays caught: the best particle is more than
-// 0.1 rad off.
+// without merging (unmergedConfig) the 8 particles have 8 maps (8 hypotheses), and when the next
+// odometry increment is 0.9 rad (52°) off in heading, which ICP from the prediction does not
+// recover (point to line recovers 0.6 rad in this small room), each hypothesis runs the multi-start
+// search over ±0.95 rad and every particle is brought back onto the truth. With the search off
+// (preset sim) ICP alone stays caught: the best particle is more than 0.1 rad off.
 TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   const auto run = [](bool wide, size_t* searches) {
-    SlamConfig config = filterConfig(8);
+    SlamConfig config = unmergedConfig(8);
     if (wide) {
       applyRealRobotPreset(&config);
       config.matcher.heading_window = 0.95;
     }
-    config.merge_distance = 0.0;
-    config.constrained_merge_ratio = 0.0;
     ParticleFilter filter(config);
     Pose2 truth(-0.5, -0.3, 0.1);
     const auto scan = [](const Pose2& p) { return testing_room::roomScan(p, 0.0, true); };

@@ -593,27 +593,20 @@ TEST(IntegrateScanTest, UpdateKeepsOccupiedRowsTrue) {
   };
   // Builds (or reads) every tile's rows and compares them with the cells; the number of tiles.
   const auto checkRows = [&](const EvidentialGridMap& m) {
-    const CellBox box = m.allocatedBox();
     int tiles = 0;
-    for (int ty = box.min_y >> EvidentialGridMap::kTileBits;
-         ty <= box.max_y >> EvidentialGridMap::kTileBits; ++ty) {
-      for (int tx = box.min_x >> EvidentialGridMap::kTileBits;
-           tx <= box.max_x >> EvidentialGridMap::kTileBits; ++tx) {
-        const EvidentialGridMap::Tile* tile = m.tile(tx, ty);
-        if (tile == nullptr) continue;
-        ++tiles;
-        EvidentialGridMap::Tile::Rows spare{};
-        const EvidentialGridMap::Tile::Rows& rows = tile->occupiedRows(kThreshold, &spare);
-        EXPECT_NE(&rows, &spare);  // the tile's own rows
-        for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
-          const uint32_t bit = (rows[static_cast<size_t>(k >> EvidentialGridMap::kTileBits)] >>
-                                (k & (EvidentialGridMap::kTileSize - 1))) &
-                               1u;
-          EXPECT_EQ(bit, tile->cells[static_cast<size_t>(k)].occupied() >= kThreshold ? 1u : 0u)
-              << tx << " " << ty << " " << k;
-        }
+    testing_room::forEachAllocatedTile(m, [&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
+      ++tiles;
+      EvidentialGridMap::Tile::Rows spare{};
+      const EvidentialGridMap::Tile::Rows& rows = tile.occupiedRows(kThreshold, &spare);
+      EXPECT_NE(&rows, &spare);  // the tile's own rows
+      for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
+        const uint32_t bit = (rows[static_cast<size_t>(k >> EvidentialGridMap::kTileBits)] >>
+                              (k & (EvidentialGridMap::kTileSize - 1))) &
+                             1u;
+        EXPECT_EQ(bit, tile.cells[static_cast<size_t>(k)].occupied() >= kThreshold ? 1u : 0u)
+            << tx << " " << ty << " " << k;
       }
-    }
+    });
     return tiles;
   };
   integrate(&map, Pose2(-0.3, -0.2, 0.2));

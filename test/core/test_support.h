@@ -1,10 +1,12 @@
-// Shared helpers of the core tests: a synthetic room scan and a noise-free motion model.
+// Shared helpers of the core tests: a synthetic room scan, a noise-free motion model, a walk over
+// a map's tiles.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
 #include "evidential_slam/core/config.h"
+#include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 
 namespace evidential_slam {
@@ -61,6 +63,19 @@ inline MotionModelConfig noiselessMotion() {
   c.alpha_rot_rot = c.alpha_rot_trans = c.alpha_trans_trans = c.alpha_trans_rot = 0.0;
   c.min_sigma_xy = c.min_sigma_theta = 0.0;
   return c;
+}
+
+// Calls fn(tx, ty, tile) for every allocated tile of `map`, row by row.
+template <typename Fn>
+void forEachAllocatedTile(const EvidentialGridMap& map, Fn&& fn) {
+  const CellBox box = map.allocatedBox();
+  for (int ty = box.min_y >> EvidentialGridMap::kTileBits;
+       ty <= box.max_y >> EvidentialGridMap::kTileBits; ++ty) {
+    for (int tx = box.min_x >> EvidentialGridMap::kTileBits;
+         tx <= box.max_x >> EvidentialGridMap::kTileBits; ++tx) {
+      if (const EvidentialGridMap::Tile* tile = map.tile(tx, ty)) fn(tx, ty, *tile);
+    }
+  }
 }
 
 }  // namespace testing_room
