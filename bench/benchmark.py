@@ -419,9 +419,9 @@ def parse_args(argv):
     p.add_argument("--resolutions", dest="resolutions_text", default="", metavar="LIST",
                    help="comma-separated grid resolutions (m) to run ours at, each its own row, "
                         "e.g. 'default,0.1' (default: the runner's default only)")
-    p.add_argument("--preset", choices=["sim", "real"], default=None,
-                   help="our --preset: 'real' for real robots' logs such as the Radish ones "
-                        "(default: the runner's default, sim)")
+    p.add_argument("--preset", default=None, metavar="NAME",
+                   help="our --preset NAME (config/NAME.yaml), e.g. 'sim' for MRPT's simulated "
+                        "logs (default: none, the runner's defaults)")
     p.add_argument("--threads", type=int, default=None,
                    help="our --threads (default: the runner's default, all cores)")
     p.add_argument("--offline", default=DEFAULT_OFFLINE,

@@ -1,14 +1,13 @@
 // evidential_slam_offline: evidential FastSLAM on an MRPT rawlog. Thin: parses the command line
-// and hands over to io::runOffline (offline_runner.h), which documents outputs and exit codes,
-// with the OctoMap export (octomap_export.h) for --export-octomap.
+// and hands over to io::runOffline (session/offline_runner.h), which documents outputs and exit
+// codes.
 #include <unistd.h>
 
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "evidential_slam/io/octomap_export.h"
-#include "evidential_slam/io/offline_runner.h"
+#include "evidential_slam/session/offline_runner.h"
 
 int main(int argc, char** argv) {
   namespace io = evidential_slam::io;
@@ -25,6 +24,5 @@ int main(int argc, char** argv) {
     std::fputs(io::offlineUsage(program).c_str(), stdout);
     return io::kExitOk;
   }
-  return io::runOffline(options, stdout, stderr, isatty(fileno(stderr)) != 0,
-                        io::exportOctomapForOfflineRun);
+  return io::runOffline(options, stdout, stderr, isatty(fileno(stderr)) != 0);
 }

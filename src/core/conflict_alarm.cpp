@@ -1,5 +1,7 @@
 #include "evidential_slam/core/conflict_alarm.h"
 
+#include "evidential_slam/core/parameters.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -7,19 +9,9 @@
 namespace evidential_slam {
 
 bool ConflictAlarmConfig::isValid(std::string* why) const {
-  auto fail = [why](const char* what) {
-    if (why != nullptr) *why = what;
-    return false;
-  };
-  if (baseline_scans < 1) return fail("conflict alarm baseline_scans must be >= 1");
-  if (warmup_scans < 0) return fail("conflict alarm warmup_scans must be >= 0");
-  if (!(threshold_factor > 1.0) || !std::isfinite(threshold_factor)) {
-    return fail("conflict alarm threshold_factor must be > 1");
-  }
-  if (!(min_added >= 0.0) || !std::isfinite(min_added)) {
-    return fail("conflict alarm min_added must be >= 0");
-  }
-  return true;
+  bool ok = true;
+  ES_CONFLICT_ALARM_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  return ok;
 }
 
 ConflictAlarm::ConflictAlarm(const ConflictAlarmConfig& config) : config_(config) {}

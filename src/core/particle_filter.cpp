@@ -36,8 +36,8 @@ PathNode::~PathNode() {
 }
 
 // The models for one sensor noise and step length: after a long step (SlamConfig::isLongStep)
-// the matcher at matcher.long_step_beam_spacing and the forward model at
-// sensor.long_step_forward_sigma, where those are set.
+// the matcher at long_step.beam_spacing and the forward model at long_step.forward_sigma, where
+// those are set.
 struct ParticleFilter::ScanModels {
   ScanModels(const SlamConfig& config, float range_sigma, bool long_step)
       : sensor(sensorConfig(config, long_step).forSensorNoise(range_sigma, config.resolution)),
@@ -45,14 +45,17 @@ struct ParticleFilter::ScanModels {
         matcher(matcherConfig(config, range_sigma, long_step), sensor, config.resolution) {}
   static SensorModelConfig sensorConfig(const SlamConfig& config, bool long_step) {
     SensorModelConfig c = config.sensor;
-    if (long_step && c.long_step_forward_sigma > 0.0) c.forward_sigma = c.long_step_forward_sigma;
+    if (long_step && config.long_step.forward_sigma > 0.0) {
+      c.forward_sigma = config.long_step.forward_sigma;
+    }
     return c;
   }
   ScanMatcherConfig matcherConfig(const SlamConfig& config, float range_sigma, bool long_step) {
-    ScanMatcherConfig c = config.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
-                                                        config.resolution);
-    if (long_step && c.long_step_beam_spacing > 0.0) c.beam_spacing = c.long_step_beam_spacing;
-    return c;
+    ScanMatcherConfig c = config.matcher;
+    if (long_step && config.long_step.beam_spacing > 0.0) {
+      c.beam_spacing = config.long_step.beam_spacing;
+    }
+    return c.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied, config.resolution);
   }
   SensorModelConfig sensor;  // the models' configuration for this sensor's declared noise
   BeamModel beam;
@@ -252,14 +255,6 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   const BeamModel* beam_model = &models.beam;
   const ScanMatcher* matcher = &models.matcher;
   const std::vector<MatchPoint> endpoints = matcher->endpoints(scan);
-  // The refinement's interleaved beam subsets (config.h, interleave_subsets); [0] is `endpoints`.
-  std::vector<std::vector<MatchPoint>> refine_subsets;
-  const int subsets = config_.matcher.interleave_subsets ? matcher->matchStride(scan) : 1;
-  for (int j = 1; j < subsets; ++j) refine_subsets.push_back(matcher->endpoints(scan, j));
-  const auto refineEndpoints = [&](size_t k) -> const std::vector<MatchPoint>& {
-    const size_t j = k % static_cast<size_t>(subsets);
-    return j == 0 ? endpoints : refine_subsets[j - 1];
-  };
   const double exponent = 1.0 / config_.likelihood_temperature;
   const size_t n = particles_.size();
 
@@ -319,7 +314,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   }
 
   // 2. Proposal: sample the motion model (around the hypothesis's match when searched), refine
-  //    against the particle's own map (on the particle's beam subset when interleaved).
+  //    against the particle's own map.
   std::vector<Pose2> proposed(n);
   pool_->run(n, [&](size_t k, int) {
     Rng rng = Rng::forStream(config_.seed, static_cast<uint64_t>(step), k);
@@ -330,7 +325,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       pose = predicted.compose(correction[hypothesis_of[k]]).compose(predicted.between(pose));
     }
     if (config_.matcher.enabled && !endpoints.empty()) {
-      pose = matcher->refine(particles_[k].map, pose, refineEndpoints(k));
+      pose = matcher->refine(particles_[k].map, pose, endpoints);
     }
     proposed[k] = pose;
   });

@@ -196,7 +196,7 @@ int ScanMatcher::matchStride(const LaserScan& scan) const {
   return std::max(1, static_cast<int>(std::lround(stride)));
 }
 
-std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan, int subset) const {
+std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan) const {
   std::vector<MatchPoint> pts;
   const double limit = std::min<double>(
       sensor_.usable_range, scan.max_range > 0.0f ? scan.max_range : sensor_.usable_range);
@@ -206,7 +206,7 @@ std::vector<MatchPoint> ScanMatcher::endpoints(const LaserScan& scan, int subset
     const float z = scan.ranges[i];
     if (!scan.valid.empty() && scan.valid[i] == 0) continue;
     if (!std::isfinite(z) || z < sensor_.min_range || z >= limit) continue;
-    if (k++ % stride != subset) continue;
+    if (k++ % stride != 0) continue;
     const Eigen::Vector2d dir(std::cos(scan.bearings[i]), std::sin(scan.bearings[i]));
     // Probe in front of the inverse model's Θ gap (k_i·σ + Δ/2), where repeated passes make cells
     // free.

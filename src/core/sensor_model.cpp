@@ -49,14 +49,11 @@ class CellReader {
 
 // One outward pass of the recursion P_i = m̃o g_i + m̃e P_{i+1} + m̃Θ (g_i + P_{i+1} - g_i P_{i+1})
 // (algorithm.md §3), on the cell's masses with its conflict m(∅) moved to Θ if asked
-// (forward_conflict_as_unknown: m(o), m(e) scaled by 1 - m(∅) = e^{-λ}), then the share 1 - w of
-// m̃Θ (w = forward_unknown_weight) moved to m̃e: `passed` is the probability that the beam got past
-// every cell so far, `collected` the plausibility collected.
+// (forward_conflict_as_unknown: m(o), m(e) scaled by 1 - m(∅) = e^{-λ}): `passed` is the
+// probability that the beam got past every cell so far, `collected` the plausibility collected.
 struct ForwardPass {
   explicit ForwardPass(const SensorModelConfig& config)
-      : unknown_weight(config.forward_unknown_weight),
-        conflict_as_unknown(config.forward_conflict_as_unknown) {}
-  double unknown_weight;
+      : conflict_as_unknown(config.forward_conflict_as_unknown) {}
   bool conflict_as_unknown;
   double passed = 1.0;
   double collected = 0.0;
@@ -81,7 +78,6 @@ struct ForwardPass {
       mu += (1.0 - keep) * (mo + c.free());
       mo *= keep;
     }
-    mu *= unknown_weight;
     collected += passed * g * (mo + mu);
     if (d > z && g < kNegligibleWindow) {
       stopped = true;

@@ -16,6 +16,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["scans_processed"] = s.scans_processed;
   j["scans_rejected"] = s.scans_rejected;
   j["scans_without_odometry"] = s.scans_without_odometry;
+  j["scans_dropped"] = s.scans_dropped;
   j["rays_total"] = s.rays_total;
   j["rays_bad"] = s.rays_bad;
   j["rays_no_return"] = s.rays_no_return;
@@ -24,12 +25,15 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["wall_time_s"] = s.wall_time_s;
   j["slam_time_s"] = s.slam_time_s;
   j["peak_rss_mb"] = s.peak_rss_mb;
-  if (!s.preset.empty()) j["preset"] = s.preset;
+  j["config_files"] = s.config_files;
   if (!s.parameters.empty()) {
     nlohmann::ordered_json params = nlohmann::ordered_json::object();
     for (const auto& [name, value] : s.parameters) params[name] = value;
     j["parameters"] = params;
   }
+  nlohmann::ordered_json values = nlohmann::ordered_json::object();
+  for (const auto& [name, value] : s.parameter_values) values[name] = value;
+  j["parameter_values"] = values;
   j["particles"] = s.particles;
   j["resolution"] = s.resolution;
   j["seed"] = s.seed;

@@ -1,8 +1,5 @@
 #include "evidential_slam/ros/slam_nodelet.h"
 
-#include <filesystem>
-#include <system_error>
-
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
@@ -12,10 +9,8 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "evidential_slam/core/layers.h"
-#include "evidential_slam/io/layer_writer.h"
-#include "evidential_slam/io/octomap_export.h"
-#include "evidential_slam/io/trajectory_io.h"
 #include "evidential_slam/ros/conversions.h"
+#include "evidential_slam/session/map_files.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -52,23 +47,23 @@ SlamNodelet::~SlamNodelet() {
 void SlamNodelet::onInit() {
   nh_ = getNodeHandle();
   private_nh_ = getPrivateNodeHandle();
-  params_ = readParams(private_nh_);
   std::string why;
-  if (!params_.isValid(&why)) {
+  std::vector<std::string> unknown;
+  if (!readParams(private_nh_, &params_, &why, &unknown) || !params_.isValid(&why)) {
     NODELET_FATAL("evidential_slam: invalid parameters: %s; the SLAM does not start", why.c_str());
     return;
   }
+  for (const std::string& name : unknown) {
+    NODELET_WARN("evidential_slam: '%s' is not a parameter of evidential_slam (ignored)",
+                 name.c_str());
+  }
 
   SlamWorker::Callbacks callbacks;
-  callbacks.on_scan = [this](const SlamEngine& engine, const ScanUpdate& update, double stamp) {
-    onScanHandled(engine, update, stamp);
+  callbacks.on_scan = [this](const MappingSession& session, const SessionScanResult& result) {
+    onScanHandled(session, result);
   };
   callbacks.on_warning = [this](const std::string& message, bool restarted) {
     if (restarted) {
-      {
-        std::lock_guard<std::mutex> alarm_lock(alarm_mutex_);
-        alarm_.reset();
-      }
       std::lock_guard<std::mutex> lock(transform_mutex_);
       have_transform_ = false;
       NODELET_WARN("%s", message.c_str());
@@ -77,8 +72,8 @@ void SlamNodelet::onInit() {
     }
   };
   try {
-    worker_ = std::make_unique<SlamWorker>(params_.slam, params_.time_jump_tolerance,
-                                           static_cast<size_t>(params_.scan_queue_size), callbacks);
+    worker_ = std::make_unique<SlamWorker>(params_, static_cast<size_t>(params_.scan_queue_size),
+                                           callbacks);
   } catch (const std::exception& e) {
     NODELET_FATAL("evidential_slam: %s", e.what());
     return;
@@ -94,7 +89,6 @@ void SlamNodelet::onInit() {
   open_space_conflict_pub_ =
       private_nh_.advertise<std_msgs::Float64>("open_space_conflict_added", 100);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  alarm_.setConfig(params_.conflict_alarm);
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   // The listener runs on this nodelet's (single-threaded) callback queue, not on a thread of its
@@ -248,7 +242,9 @@ void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
   }
 }
 
-void SlamNodelet::onScanHandled(const SlamEngine& engine, const ScanUpdate& update, double stamp) {
+void SlamNodelet::onScanHandled(const MappingSession& session, const SessionScanResult& result) {
+  const SlamEngine& engine = session.engine();
+  const ScanUpdate& update = result.update;
   std::string map_frame;
   {
     std::lock_guard<std::mutex> lock(params_mutex_);
@@ -260,8 +256,8 @@ void SlamNodelet::onScanHandled(const SlamEngine& engine, const ScanUpdate& upda
     have_transform_ = true;
   }
   ros::Time ros_stamp;
-  ros_stamp.fromSec(stamp);
-  if (update.processed) reportConflict(update, ros_stamp);
+  ros_stamp.fromSec(result.stamp);
+  if (update.processed) reportConflict(result, ros_stamp);
 
   const PoseEstimate estimate = engine.poseEstimate();
   geometry_msgs::PoseWithCovarianceStamped pose;
@@ -299,12 +295,9 @@ void SlamNodelet::onScanHandled(const SlamEngine& engine, const ScanUpdate& upda
   }
 }
 
-void SlamNodelet::reportConflict(const ScanUpdate& update, const ros::Time& stamp) {
-  ConflictAlarmState state;
-  {
-    std::lock_guard<std::mutex> lock(alarm_mutex_);
-    state = alarm_.update(update.open_space_conflict_added);
-  }
+void SlamNodelet::reportConflict(const SessionScanResult& result, const ros::Time& stamp) {
+  const ScanUpdate& update = result.update;
+  const ConflictAlarmState& state = result.alarm;
   std_msgs::Float64 added;
   added.data = update.conflict_mass_added;
   conflict_pub_.publish(added);
@@ -378,7 +371,7 @@ void SlamNodelet::onReconfigure(EvidentialSlamConfig& config, uint32_t) {
   }
   applyReconfigure(config, &next);
   std::string why;
-  if (!next.isValid(&why) || !worker_->reconfigure(next.slam, &why)) {
+  if (!next.isValid(&why) || !worker_->reconfigure(next, &why)) {
     NODELET_ERROR("dynamic_reconfigure: parameters refused (%s); keeping the previous ones",
                   why.c_str());
     std::lock_guard<std::mutex> lock(params_mutex_);
@@ -391,10 +384,6 @@ void SlamNodelet::onReconfigure(EvidentialSlamConfig& config, uint32_t) {
     params_ = next;
   }
   map_publisher_->setExternalConflictDisplayMax(next.external_conflict_display_max);
-  {
-    std::lock_guard<std::mutex> lock(alarm_mutex_);
-    alarm_.setConfig(next.conflict_alarm);
-  }
   if (interval_changed && map_timer_.isValid()) {
     map_timer_.setPeriod(ros::Duration(next.map_update_interval));
   }
@@ -408,39 +397,27 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
     return true;  // the call itself worked; `success` says the save did not
   };
   if (request.directory.empty()) return fail("no directory given");
-  std::error_code ec;
-  std::filesystem::create_directories(request.directory, ec);
-  if (ec) return fail("cannot create '" + request.directory + "': " + ec.message());
 
   EvidentialGridMap grid;
   std::vector<StampedPose> trajectory;
+  std::vector<ConflictRecord> conflicts;
+  SessionConfig config;
   bool have_map = false;
-  worker_->runOnWorker([&](const SlamEngine& engine) {
-    have_map = engine.stats().scans_processed > 0;
-    grid = engine.bestMap();
-    trajectory = engine.bestTrajectory();
+  worker_->runOnWorker([&](const MappingSession& session) {
+    have_map = session.engine().stats().scans_processed > 0;
+    grid = session.engine().bestMap();
+    trajectory = session.engine().bestTrajectory();
+    conflicts = session.conflictLog();
+    config = session.parameters().session;
   });
   if (!have_map) return fail("no map yet: no scan has been processed");
 
-  const LayerRaster raster = extractLayers(grid);
+  MapFilesReport report;
   std::string error;
-  io::LayerWriteResult written;
-  const io::LayerWriterConfig writer_config;
-  if (!io::writeMapServerLayers(raster, request.directory, writer_config, &response.files,
-                                &error) ||
-      !io::writeLayers(raster, request.directory, writer_config, &written, &error)) {
+  if (!writeMapFiles(request.directory, grid, trajectory, conflicts, config, &report, &error)) {
     return fail(error);
   }
-  response.files.insert(response.files.end(), written.files.begin(), written.files.end());
-  const std::string tum = (std::filesystem::path(request.directory) / "trajectory.tum").string();
-  if (!io::writeTumTrajectory(tum, trajectory, &error)) return fail(error);
-  response.files.push_back(tum);
-  io::OctomapExportResult octomap;
-  const std::string prefix = (std::filesystem::path(request.directory) / "map").string();
-  if (!io::exportOctomap(grid, io::OctomapExportConfig(), prefix, &octomap, &error)) {
-    return fail(error);
-  }
-  for (const io::OctomapExportFile& f : octomap.files) response.files.push_back(f.path);
+  response.files = report.files;
   response.success = true;
   response.message =
       "saved " + std::to_string(response.files.size()) + " files to " + request.directory;

@@ -7,10 +7,8 @@
 namespace evidential_slam {
 namespace ros_adapter {
 
-SlamWorker::SlamWorker(const SlamConfig& config, double time_jump_tolerance, size_t max_queue,
-                       Callbacks callbacks)
-    : engine_(config),
-      time_jump_tolerance_(time_jump_tolerance),
+SlamWorker::SlamWorker(const Parameters& params, size_t max_queue, Callbacks callbacks)
+    : session_(params),
       max_queue_(max_queue),
       callbacks_(std::move(callbacks)),
       thread_([this] { run(); }) {}
@@ -36,23 +34,23 @@ bool SlamWorker::push(const Pose2& odometry, const LaserScan& scan) {
   return true;
 }
 
-bool SlamWorker::reconfigure(const SlamConfig& config, std::string* why) {
-  if (!config.isValid(why)) return false;
+bool SlamWorker::reconfigure(const Parameters& params, std::string* why) {
+  if (!params.isValid(why)) return false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    pending_config_ = std::make_unique<SlamConfig>(config);
+    pending_params_ = std::make_unique<Parameters>(params);
   }
   wake_.notify_one();
   return true;
 }
 
-void SlamWorker::runOnWorker(const std::function<void(const SlamEngine& engine)>& task) {
+void SlamWorker::runOnWorker(const std::function<void(const MappingSession& session)>& task) {
   auto done = std::make_shared<std::promise<void>>();
   std::future<void> finished = done->get_future();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     tasks_.push_back([this, &task, done] {
-      task(engine_);
+      task(session_);
       done->set_value();
     });
   }
@@ -87,15 +85,15 @@ void SlamWorker::run() {
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     wake_.wait(lock, [this] {
-      return stop_ || !queue_.empty() || !tasks_.empty() || pending_config_ != nullptr;
+      return stop_ || !queue_.empty() || !tasks_.empty() || pending_params_ != nullptr;
     });
     if (stop_) break;
     busy_ = true;
-    if (pending_config_) {
-      std::unique_ptr<SlamConfig> config = std::move(pending_config_);
+    if (pending_params_) {
+      std::unique_ptr<Parameters> params = std::move(pending_params_);
       lock.unlock();
       std::string why;
-      if (!engine_.reconfigure(*config, &why)) warn("new parameters refused: " + why);
+      if (!session_.reconfigure(*params, &why)) warn("new parameters refused: " + why);
       lock.lock();
     }
     if (!tasks_.empty()) {
@@ -109,41 +107,28 @@ void SlamWorker::run() {
       queue_.pop_front();
       lock.unlock();
 
-      const double stamp = item.scan.stamp;
-      bool handle = true;
-      if (have_last_stamp_ && stamp < last_stamp_) {
-        char buf[160];
-        if (last_stamp_ - stamp > time_jump_tolerance_) {
-          std::snprintf(buf, sizeof(buf),
-                        "time jumped back by %.3f s (%.3f -> %.3f): the SLAM starts over",
-                        last_stamp_ - stamp, last_stamp_, stamp);
-          engine_.reset();
-          warn(buf, true);
-          std::lock_guard<std::mutex> relock(mutex_);
-          map_.grid.reset();
-          ++map_.version;
-          ++resets_;
-        } else {
-          std::snprintf(buf, sizeof(buf),
-                        "scan at %.3f is older than the previous one (%.3f): dropped", stamp,
-                        last_stamp_);
-          warn(buf);
-          handle = false;
-        }
+      const SessionScanResult result = session_.processScan(item.odometry, item.scan);
+      const bool restarted = result.order == SessionScanResult::Order::kRestarted;
+      if (restarted) {
+        std::lock_guard<std::mutex> relock(mutex_);
+        map_.grid.reset();
+        ++map_.version;
+        ++resets_;
       }
-      if (handle) {
-        have_last_stamp_ = true;
-        last_stamp_ = stamp;
-        const ScanUpdate update = engine_.processScan(item.odometry, item.scan);
-        if (update.rejected) warn("scan at " + std::to_string(stamp) + " unusable: " + update.why);
-        if (update.processed) {
-          auto grid = std::make_shared<const EvidentialGridMap>(engine_.bestMap());
+      if (!result.message.empty()) warn(result.message, restarted);
+      if (result.order != SessionScanResult::Order::kDropped) {
+        const double stamp = item.scan.stamp;
+        if (result.update.rejected) {
+          warn("scan at " + std::to_string(stamp) + " unusable: " + result.update.why);
+        }
+        if (result.update.processed) {
+          auto grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
           std::lock_guard<std::mutex> relock(mutex_);
           map_.grid = std::move(grid);
           map_.stamp = stamp;
           ++map_.version;
         }
-        if (callbacks_.on_scan) callbacks_.on_scan(engine_, update, stamp);
+        if (callbacks_.on_scan) callbacks_.on_scan(session_, result);
       }
       lock.lock();
     }

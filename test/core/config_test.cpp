@@ -1,12 +1,16 @@
-// Tests of parameter validation (config.h) and of LaserScan::isConsistent (laser_scan.h).
+// Tests of the parameter table (parameters.h), validation (config.h) and of
+// LaserScan::isConsistent (laser_scan.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "evidential_slam/core/config.h"
+#include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/laser_scan.h"
 
 namespace evidential_slam {
@@ -21,7 +25,10 @@ TEST(ConfigTest, DefaultsAreValid) {
   EXPECT_TRUE(ScanMatcherConfig().isValid(&why)) << why;
 }
 
-// The defaults are the documented ones (algorithm.md §3-§5; paper: K = 100).
+// The defaults are the documented ones (algorithm.md §3-§5; paper: K = 100) and the real-robot
+// settings (docs/decisions.md): the wide-basin match, conflict read as ignorance, the along-track
+// prior, ICP to 30 iterations, less rotation noise, and after a long step 1° matching and a wider
+// forward model.
 TEST(ConfigTest, DefaultValues) {
   const SlamConfig c;
   EXPECT_EQ(c.particles, 100);
@@ -30,132 +37,132 @@ TEST(ConfigTest, DefaultValues) {
   EXPECT_NEAR(c.update_min_angle, 0.17453292519943295, 1e-12);  // 10° = π/18
   EXPECT_DOUBLE_EQ(c.likelihood_temperature, 20.0);
   EXPECT_DOUBLE_EQ(c.resample_threshold, 0.5);
-  EXPECT_FALSE(c.along_track_prior);
   EXPECT_DOUBLE_EQ(c.constrained_merge_ratio, 0.5);
   EXPECT_DOUBLE_EQ(c.constrained_merge_distance, 0.05);
   EXPECT_DOUBLE_EQ(c.constrained_merge_angle, 0.02);
   EXPECT_DOUBLE_EQ(c.sensor.random_weight, 0.2);
-  EXPECT_DOUBLE_EQ(c.sensor.forward_unknown_weight, 1.0);
-  EXPECT_FALSE(c.sensor.forward_conflict_as_unknown);
   EXPECT_DOUBLE_EQ(c.sensor.prior_occupied, 0.4);
   EXPECT_DOUBLE_EQ(c.sensor.hit_sigma, 0.025);
   EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.025);
   EXPECT_DOUBLE_EQ(c.sensor.forward_window, 3.0);
   EXPECT_DOUBLE_EQ(c.sensor.free_gap, 3.0);
-}
-
-// The real-robot preset turns on the wide-basin match (±20° in 5° steps), the forward model's
-// reading of conflict as ignorance, the along-track prior, ICP to 30 iterations, less rotation
-// noise from rotation, and after a long step 1° matching and a wider forward model; it changes
-// nothing else.
-TEST(ConfigTest, RealRobotPreset) {
-  SlamConfig c;
-  applyRealRobotPreset(&c);
-  std::string why;
-  EXPECT_TRUE(c.isValid(&why)) << why;
   EXPECT_DOUBLE_EQ(c.matcher.heading_window, 0.35);
-  EXPECT_EQ(SlamConfig().matcher.heading_window, 0.0);  // off by default
   EXPECT_TRUE(c.sensor.forward_conflict_as_unknown);
-  EXPECT_FALSE(SlamConfig().sensor.forward_conflict_as_unknown);
   EXPECT_TRUE(c.along_track_prior);
-  EXPECT_FALSE(SlamConfig().along_track_prior);
   EXPECT_EQ(c.matcher.icp_iterations, 30);
-  EXPECT_EQ(SlamConfig().matcher.icp_iterations, 12);
-  EXPECT_FALSE(c.matcher.interleave_subsets);  // not shown to help (config.h)
-  EXPECT_DOUBLE_EQ(c.matcher.long_step_beam_spacing, M_PI / 180.0);
-  EXPECT_EQ(SlamConfig().matcher.long_step_beam_spacing, 0.0);  // off by default
   EXPECT_DOUBLE_EQ(c.motion.alpha_rot_rot, 0.005);
-  EXPECT_DOUBLE_EQ(SlamConfig().motion.alpha_rot_rot, 0.02);
-  EXPECT_DOUBLE_EQ(c.sensor.long_step_forward_sigma, 0.05);
-  EXPECT_EQ(SlamConfig().sensor.long_step_forward_sigma, 0.0);  // off by default
-  EXPECT_DOUBLE_EQ(c.sensor.forward_sigma, 0.025);              // not in the preset
-  c.matcher.heading_window = 0.0;
-  const SlamConfig d;
-  EXPECT_EQ(c.matcher.heading_step, d.matcher.heading_step);
-  EXPECT_EQ(c.matcher.search_radius, d.matcher.search_radius);
-  EXPECT_EQ(c.motion.alpha_rot_trans, d.motion.alpha_rot_trans);
-  EXPECT_EQ(c.motion.alpha_trans_trans, d.motion.alpha_trans_trans);
-  EXPECT_EQ(c.update_min_distance, d.update_min_distance);
-  EXPECT_EQ(c.constrained_merge_ratio, d.constrained_merge_ratio);
-  EXPECT_EQ(c.sensor.hit_sigma, d.sensor.hit_sigma);
-  EXPECT_EQ(c.particles, d.particles);
+  EXPECT_DOUBLE_EQ(c.long_step.beam_spacing, M_PI / 180.0);
+  EXPECT_DOUBLE_EQ(c.long_step.forward_sigma, 0.05);
+  EXPECT_DOUBLE_EQ(c.long_step.distance, 0.8);
+  EXPECT_DOUBLE_EQ(c.long_step.angle, 0.3);
 }
 
-// Parameters by their ROS names: each type parses, the named field and no other changes.
+// Parameters by their names: each type parses, the named field and no other changes.
 TEST(ConfigTest, SetsParametersByName) {
-  SlamConfig c;
+  Parameters p;
   std::string why;
-  ASSERT_TRUE(setSlamParameter("resample_threshold", "0.3", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.resample_threshold, 0.3);
-  ASSERT_TRUE(setSlamParameter("weight_beam_stride", "3", &c, &why)) << why;
-  EXPECT_EQ(c.sensor.weight_beam_stride, 3);
-  ASSERT_TRUE(setSlamParameter("scan_matching", "false", &c, &why)) << why;
-  EXPECT_FALSE(c.matcher.enabled);
-  ASSERT_TRUE(setSlamParameter("scan_matching", "1", &c, &why)) << why;
-  EXPECT_TRUE(c.matcher.enabled);
-  ASSERT_TRUE(setSlamParameter("matcher_heading_window", "0.2", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.matcher.heading_window, 0.2);
-  ASSERT_TRUE(c.matcher.point_to_line);
-  ASSERT_TRUE(setSlamParameter("matcher_point_to_line", "false", &c, &why)) << why;
-  EXPECT_FALSE(c.matcher.point_to_line);
-  ASSERT_TRUE(setSlamParameter("matcher_icp_iterations", "30", &c, &why)) << why;
-  EXPECT_EQ(c.matcher.icp_iterations, 30);
-  ASSERT_TRUE(setSlamParameter("matcher_beam_spacing", "0.01", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.matcher.beam_spacing, 0.01);
-  ASSERT_TRUE(setSlamParameter("matcher_interleave_subsets", "true", &c, &why)) << why;
-  EXPECT_TRUE(c.matcher.interleave_subsets);
-  ASSERT_TRUE(setSlamParameter("matcher_long_step_beam_spacing", "0.02", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.matcher.long_step_beam_spacing, 0.02);
-  ASSERT_TRUE(setSlamParameter("matcher_long_step_distance", "0.9", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.matcher.long_step_distance, 0.9);
-  ASSERT_TRUE(setSlamParameter("matcher_long_step_angle", "0.25", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.matcher.long_step_angle, 0.25);
-  ASSERT_TRUE(setSlamParameter("long_step_forward_sigma", "0.04", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.sensor.long_step_forward_sigma, 0.04);
-  ASSERT_TRUE(setSlamParameter("alpha_rot_trans", "1e-3", &c, &why)) << why;
-  EXPECT_DOUBLE_EQ(c.motion.alpha_rot_trans, 0.001);
-  const SlamConfig d;
-  EXPECT_EQ(c.likelihood_temperature, d.likelihood_temperature);
-  EXPECT_EQ(c.motion.alpha_rot_rot, d.motion.alpha_rot_rot);
-  EXPECT_EQ(c.sensor.hit_sigma, d.sensor.hit_sigma);
-  EXPECT_EQ(c.particles, d.particles);
+  ASSERT_TRUE(setParameter("resample_threshold", "0.3", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.slam.resample_threshold, 0.3);
+  ASSERT_TRUE(setParameter("particles", "7", &p, &why)) << why;
+  EXPECT_EQ(p.slam.particles, 7);
+  ASSERT_TRUE(setParameter("weight_beam_stride", "3", &p, &why)) << why;
+  EXPECT_EQ(p.slam.sensor.weight_beam_stride, 3);
+  ASSERT_TRUE(setParameter("scan_matching", "false", &p, &why)) << why;
+  EXPECT_FALSE(p.slam.matcher.enabled);
+  ASSERT_TRUE(setParameter("scan_matching", "1", &p, &why)) << why;
+  EXPECT_TRUE(p.slam.matcher.enabled);
+  ASSERT_TRUE(setParameter("matcher_heading_window", "0.2", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.slam.matcher.heading_window, 0.2);
+  ASSERT_TRUE(setParameter("matcher_point_to_line", "false", &p, &why)) << why;
+  EXPECT_FALSE(p.slam.matcher.point_to_line);
+  ASSERT_TRUE(setParameter("long_step_beam_spacing", "0.02", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.slam.long_step.beam_spacing, 0.02);
+  ASSERT_TRUE(setParameter("long_step_distance", "0.9", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.slam.long_step.distance, 0.9);
+  ASSERT_TRUE(setParameter("alpha_rot_trans", "1e-3", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.slam.motion.alpha_rot_trans, 0.001);
+  ASSERT_TRUE(setParameter("motion_min_sigma_xy", "0.01", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.slam.motion.min_sigma_xy, 0.01);
+  ASSERT_TRUE(setParameter("conflict_alarm_factor", "6", &p, &why)) << why;
+  EXPECT_DOUBLE_EQ(p.conflict_alarm.threshold_factor, 6.0);
+  ASSERT_TRUE(setParameter("export_octomap", "true", &p, &why)) << why;
+  EXPECT_TRUE(p.session.export_octomap);
+  const Parameters d;
+  EXPECT_EQ(p.slam.likelihood_temperature, d.slam.likelihood_temperature);
+  EXPECT_EQ(p.slam.motion.alpha_rot_rot, d.slam.motion.alpha_rot_rot);
+  EXPECT_EQ(p.slam.sensor.hit_sigma, d.slam.sensor.hit_sigma);
+  EXPECT_EQ(p.slam.long_step.angle, d.slam.long_step.angle);
 }
 
-// Unknown names and unparsable values fail with a one-line reason and change nothing.
+// Unknown names, node-only names and bad values fail with a one-line reason naming the parameter
+// and change nothing.
 TEST(ConfigTest, RejectsUnknownParametersAndBadValues) {
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"particles", "10"},  // start-up, not a run-time parameter: --particles
       {"resample", "0.3"},
       {"resample_threshold", ""},
       {"resample_threshold", "0.3x"},
       {"resample_threshold", "nan"},
       {"resample_threshold", "inf"},
+      {"resample_threshold", "1.5"},  // out of range
       {"weight_beam_stride", "2.5"},
       {"weight_beam_stride", "99999999999"},
+      {"particles", "1000000000"},  // a billion particles
+      {"usable_range", "1e9"},
+      {"resolution", "1e-6"},
       {"scan_matching", "yes"},
+      {"map_frame", "world"},  // the node's only
   };
   for (const auto& [name, value] : bad) {
-    SlamConfig c;
+    Parameters p;
     std::string why;
-    EXPECT_FALSE(setSlamParameter(name, value, &c, &why)) << name << "=" << value;
+    EXPECT_FALSE(setParameter(name, value, &p, &why)) << name << "=" << value;
     EXPECT_FALSE(why.empty());
     EXPECT_EQ(why.find('\n'), std::string::npos);
     EXPECT_NE(why.find(name), std::string::npos) << why;
-    EXPECT_EQ(c.resample_threshold, SlamConfig().resample_threshold);
-    EXPECT_EQ(c.sensor.weight_beam_stride, SlamConfig().sensor.weight_beam_stride);
-    EXPECT_TRUE(c.matcher.enabled);
+    EXPECT_EQ(p.slam.resample_threshold, Parameters().slam.resample_threshold);
+    EXPECT_EQ(p.slam.sensor.weight_beam_stride, Parameters().slam.sensor.weight_beam_stride);
+    EXPECT_EQ(p.slam.particles, Parameters().slam.particles);
+    EXPECT_TRUE(p.slam.matcher.enabled);
   }
+  EXPECT_TRUE(isNodeParameter("map_frame"));
+  EXPECT_FALSE(isNodeParameter("particles"));
 }
 
-// Every listed name can be set, and the list has each name once.
-TEST(ConfigTest, EveryParameterNameIsSettable) {
-  const std::vector<std::string> names = slamParameterNames();
-  EXPECT_EQ(names.size(), 36u);
-  for (size_t i = 0; i < names.size(); ++i) {
-    SlamConfig c;
-    std::string why;
-    EXPECT_TRUE(setSlamParameter(names[i], "1", &c, &why)) << names[i] << ": " << why;
-    for (size_t j = 0; j < i; ++j) EXPECT_NE(names[i], names[j]);
+// Every row of the table can be set to its range's ends (numbers) or both ways (switches), the
+// value reads back as set, the names are unique, and each range holds its default.
+TEST(ConfigTest, EveryParameterIsSettableWithinItsRange) {
+  const std::vector<ParameterSpec> specs = sharedParameterSpecs();
+  EXPECT_GT(specs.size(), 50u);
+  const Parameters defaults;
+  std::map<std::string, std::string> default_values;
+  for (const auto& [name, value] : parameterValues(defaults)) default_values[name] = value;
+  EXPECT_EQ(default_values.size(), specs.size());  // unique names
+  for (const ParameterSpec& spec : specs) {
+    const std::string type = spec.type;
+    std::vector<std::string> values;
+    if (type == "bool") {
+      values = {"true", "false"};
+    } else {
+      char lo[40], hi[40];
+      std::snprintf(lo, sizeof(lo), "%.17g", spec.min);
+      std::snprintf(hi, sizeof(hi), "%.17g", spec.max);
+      values = {lo, hi};
+      // The default is within the range.
+      const double d = std::stod(default_values[spec.name]);
+      EXPECT_GE(d, spec.min) << spec.name;
+      EXPECT_LE(d, spec.max) << spec.name;
+    }
+    for (const std::string& v : values) {
+      Parameters p;
+      std::string why;
+      EXPECT_TRUE(setParameter(spec.name, v, &p, &why)) << spec.name << "=" << v << ": " << why;
+      for (const auto& [name, value] : parameterValues(p)) {
+        if (name != spec.name) continue;
+        EXPECT_DOUBLE_EQ(type == "bool" ? (value == "true") : std::stod(value),
+                         type == "bool" ? (v == "true") : std::stod(v))
+            << spec.name;
+      }
+    }
   }
 }
 
@@ -189,16 +196,16 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c.matcher.beam_spacing = -0.01;
   expectInvalid(c, "beam_spacing < 0");
   c = SlamConfig();
-  c.matcher.long_step_beam_spacing = -0.01;
-  expectInvalid(c, "long_step_beam_spacing < 0");
+  c.long_step.beam_spacing = -0.01;
+  expectInvalid(c, "long_step beam_spacing < 0");
   c = SlamConfig();
-  c.matcher.long_step_distance = std::nan("");
-  expectInvalid(c, "long_step_distance NaN");
+  c.long_step.distance = std::nan("");
+  expectInvalid(c, "long_step distance NaN");
   c = SlamConfig();
-  c.matcher.long_step_angle = -0.1;
-  expectInvalid(c, "long_step_angle < 0");
+  c.long_step.angle = -0.1;
+  expectInvalid(c, "long_step angle < 0");
   c = SlamConfig();
-  c.matcher.icp_iterations = 101;  // a ROS / --param parameter since the real preset sets it
+  c.matcher.icp_iterations = 101;
   expectInvalid(c, "icp_iterations > 100");
   c.matcher.icp_iterations = -1;
   expectInvalid(c, "icp_iterations < 0");
@@ -206,16 +213,8 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c.sensor.random_weight = 1.0;
   expectInvalid(c, "random_weight = 1");
   c = SlamConfig();
-  c.sensor.random_weight = 1.5;
-  expectInvalid(c, "random_weight = 1.5");
-  c = SlamConfig();
   c.sensor.random_weight = -0.1;
   expectInvalid(c, "random_weight < 0");
-  c = SlamConfig();
-  c.sensor.forward_unknown_weight = 1.5;
-  expectInvalid(c, "forward_unknown_weight > 1");
-  c.sensor.forward_unknown_weight = -0.1;
-  expectInvalid(c, "forward_unknown_weight < 0");
   c = SlamConfig();
   c.sensor.prior_occupied = 0.0;
   expectInvalid(c, "prior_occupied = 0");
@@ -223,26 +222,29 @@ TEST(ConfigTest, InvalidValuesAreRejected) {
   c.sensor.prior_occupied = 1.0;
   expectInvalid(c, "prior_occupied = 1");
   c = SlamConfig();
-  c.sensor.prior_occupied = -0.2;
-  expectInvalid(c, "prior_occupied < 0");
-  c = SlamConfig();
-  c.sensor.prior_occupied = 1.2;
-  expectInvalid(c, "prior_occupied > 1");
+  c.sensor.min_range = 30.0;
+  expectInvalid(c, "min_range above usable_range");
   c = SlamConfig();
   c.constrained_merge_ratio = 1.5;
   expectInvalid(c, "constrained_merge_ratio > 1");
   c.constrained_merge_ratio = -0.1;
   expectInvalid(c, "constrained_merge_ratio < 0");
   c = SlamConfig();
-  c.constrained_merge_distance = -0.01;
-  expectInvalid(c, "constrained_merge_distance < 0");
-  c = SlamConfig();
   c.constrained_merge_angle = std::nan("");
   expectInvalid(c, "constrained_merge_angle NaN");
+  Parameters p;
+  p.session.free_thresh = 0.7;  // above occupied_thresh
+  std::string why;
+  EXPECT_FALSE(p.isValid(&why));
+  EXPECT_NE(why.find("free_thresh"), std::string::npos) << why;
+  p = Parameters();
+  p.conflict_alarm.threshold_factor = 1.0;
+  EXPECT_FALSE(p.isValid(&why));
+  EXPECT_NE(why.find("conflict_alarm_factor"), std::string::npos) << why;
 }
 
 // Further values that would break the models (a zero or negative σ divides by zero, NaN
-// propagates, negative motion noise variances): not in the minimal list but equally invalid.
+// propagates, negative motion noise variances): equally invalid.
 TEST(ConfigTest, DegenerateValuesAreRejected) {
   SlamConfig c;
   c.resolution = std::nan("");
@@ -254,10 +256,10 @@ TEST(ConfigTest, DegenerateValuesAreRejected) {
   c.sensor.forward_sigma = -0.01;
   expectInvalid(c, "forward_sigma < 0");
   c = SlamConfig();
-  c.sensor.long_step_forward_sigma = -0.01;
-  expectInvalid(c, "long_step_forward_sigma < 0");
-  c.sensor.long_step_forward_sigma = std::nan("");
-  expectInvalid(c, "long_step_forward_sigma NaN");
+  c.long_step.forward_sigma = -0.01;
+  expectInvalid(c, "long_step forward_sigma < 0");
+  c.long_step.forward_sigma = std::nan("");
+  expectInvalid(c, "long_step forward_sigma NaN");
   c = SlamConfig();
   c.motion.alpha_trans_trans = -0.1;
   expectInvalid(c, "alpha_trans_trans < 0");
@@ -272,22 +274,24 @@ TEST(ConfigTest, DegenerateValuesAreRejected) {
 // way; the SLAM treats it apart only while a long-step setting (the matcher's beam spacing or the
 // forward model's σ_f) is on.
 TEST(ConfigTest, LongStep) {
-  ScanMatcherConfig m;
-  m.long_step_distance = 0.8;
-  m.long_step_angle = 0.3;
-  EXPECT_FALSE(m.isLongStep(0.79, 0.29));
-  EXPECT_FALSE(m.isLongStep(0.79, -0.29));
-  EXPECT_TRUE(m.isLongStep(0.8, 0.0));
-  EXPECT_TRUE(m.isLongStep(0.0, 0.3));
-  EXPECT_TRUE(m.isLongStep(0.1, -0.31));
+  LongStepConfig l;
+  l.distance = 0.8;
+  l.angle = 0.3;
+  EXPECT_FALSE(l.isLong(0.79, 0.29));
+  EXPECT_FALSE(l.isLong(0.79, -0.29));
+  EXPECT_TRUE(l.isLong(0.8, 0.0));
+  EXPECT_TRUE(l.isLong(0.0, 0.3));
+  EXPECT_TRUE(l.isLong(0.1, -0.31));
 
   SlamConfig c;
-  EXPECT_FALSE(c.isLongStep(5.0, 1.0));  // off by default
-  c.matcher.long_step_beam_spacing = 0.0175;
+  c.long_step.beam_spacing = 0.0;
+  c.long_step.forward_sigma = 0.0;
+  EXPECT_FALSE(c.isLongStep(5.0, 1.0));  // no long-step setting on
+  c.long_step.beam_spacing = 0.0175;
   EXPECT_TRUE(c.isLongStep(0.8, 0.0));
   EXPECT_FALSE(c.isLongStep(0.79, 0.29));
-  c.matcher.long_step_beam_spacing = 0.0;
-  c.sensor.long_step_forward_sigma = 0.05;
+  c.long_step.beam_spacing = 0.0;
+  c.long_step.forward_sigma = 0.05;
   EXPECT_TRUE(c.isLongStep(0.0, -0.3));
   EXPECT_FALSE(c.isLongStep(0.5, 0.1));
 }

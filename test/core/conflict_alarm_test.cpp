@@ -237,7 +237,7 @@ TEST(ConflictAlarm, ResetAndValidation) {
   ConflictAlarmConfig bad = smallConfig();
   bad.threshold_factor = 1.0;
   EXPECT_FALSE(bad.isValid(&why));
-  EXPECT_NE(why.find("threshold_factor"), std::string::npos);
+  EXPECT_NE(why.find("conflict_alarm_factor"), std::string::npos) << why;
   bad = smallConfig();
   bad.warmup_scans = -1;
   EXPECT_FALSE(bad.isValid(&why));

@@ -121,7 +121,7 @@ TEST(SystematicResampleTest, DegenerateWeights) {
 using testing_room::roomScan;
 
 SlamConfig filterConfig(int particles) {
-  SlamConfig c;
+  SlamConfig c = testing_room::withoutRealRobotSettings(SlamConfig());
   c.particles = particles;
   c.threads = 1;
   c.seed = 17;
@@ -255,40 +255,6 @@ TEST(ParticleFilterTest, AlongTrackPriorEntersTheWeights) {
   EXPECT_TRUE(scored);
 }
 
-// interleave_subsets: particle k refines on the scan's beam subset k mod stride (roomScan's 1°
-// beams at the 2° beam_spacing: stride 2). With the same seed the sampled poses are the same, so
-// the even particles (subset 0, as without it) end exactly where they end without it, and the odd
-// ones, refined on the other beams, elsewhere. No merging and no resampling: each particle keeps
-// its own refined pose.
-TEST(ParticleFilterTest, InterleavedSubsetsRefineOddParticlesOnTheOtherBeams) {
-  SlamConfig off = unmergedConfig(8);
-  off.resample_threshold = 0.0;
-  SlamConfig on = off;
-  on.matcher.interleave_subsets = true;
-  ParticleFilter a(off), b(on);
-  const Pose2 start(-1.0, 0.2, 0.0);
-  a.initialize(start, roomScan(start), 0);
-  b.initialize(start, roomScan(start), 0);
-  const Pose2 increment(0.5, 0.05, 0.05);
-  const Pose2 truth = start.compose(Pose2(0.45, 0.0, 0.0));  // the odometry is off
-  a.update(increment, roomScan(truth), 1);
-  b.update(increment, roomScan(truth), 1);
-  for (size_t i = 0; i < 8; ++i) {
-    const Pose2& pa = a.particles()[i].pose;
-    const Pose2& pb = b.particles()[i].pose;
-    if (i % 2 == 0) {
-      EXPECT_EQ(pa.x, pb.x) << i;
-      EXPECT_EQ(pa.y, pb.y) << i;
-      EXPECT_EQ(pa.theta, pb.theta) << i;
-    } else {
-      EXPECT_TRUE(pa.x != pb.x || pa.y != pb.y || pa.theta != pb.theta) << i;
-    }
-    // Either way the refinement found the room: within 3 cm of the truth.
-    EXPECT_NEAR(pb.x, truth.x, 0.03) << i;
-    EXPECT_NEAR(pb.y, truth.y, 0.03) << i;
-  }
-}
-
 // The particles after one update of a filter started at `start` in roomScan's room, with an
 // odometry increment 5 cm longer than the robot went; the step must be long exactly when
 // `long_step` says.
@@ -306,8 +272,8 @@ std::vector<Particle> afterOneStep(const SlamConfig& config, const Pose2& increm
 SlamConfig longStepConfig() {
   SlamConfig c = filterConfig(8);
   c.resample_threshold = 0.0;
-  c.matcher.long_step_distance = 0.8;
-  c.matcher.long_step_angle = 0.3;
+  c.long_step.distance = 0.8;
+  c.long_step.angle = 0.3;
   return c;
 }
 
@@ -335,7 +301,7 @@ TEST(ParticleFilterTest, LongStepsAreMatchedAtTheLongStepSpacing) {
   SlamConfig every_beam = base;
   every_beam.matcher.beam_spacing = 0.017453292519943295;
   SlamConfig on = base;
-  on.matcher.long_step_beam_spacing = 0.017453292519943295;
+  on.long_step.beam_spacing = 0.017453292519943295;
   expectLongStepSetting(base, on, every_beam, [](const std::vector<Particle>& particles) {
     std::vector<std::array<double, 3>> poses;
     for (const Particle& p : particles) poses.push_back({p.pose.x, p.pose.y, p.pose.theta});
@@ -350,7 +316,7 @@ TEST(ParticleFilterTest, LongStepsAreWeighedAtTheLongStepForwardSigma) {
   SlamConfig wide = base;
   wide.sensor.forward_sigma = 0.05;
   SlamConfig on = base;
-  on.sensor.long_step_forward_sigma = 0.05;
+  on.long_step.forward_sigma = 0.05;
   expectLongStepSetting(base, on, wide, [](const std::vector<Particle>& particles) {
     std::vector<double> weights;
     for (const Particle& p : particles) weights.push_back(p.cumulative_log_weight);
@@ -384,7 +350,7 @@ TEST(ParticleFilterTest, DeterministicForSeed) {
 // o = 0.8·η·m_hit. Default model (σ = 0.025): m_hit = Φ(2) - 0.5 = 0.4772499, η = 1.2643824,
 // o = 0.4827411. Declared σ = 0.3: m_hit = Φ(1/6) - 0.5 = 0.0661838, η = 1.5962366, o = 0.0845160.
 TEST(ParticleFilterTest, DeclaredRangeNoiseWidensTheModel) {
-  SlamConfig config;
+  SlamConfig config = testing_room::withoutRealRobotSettings(SlamConfig());
   config.particles = 2;
   config.threads = 1;
   LaserScan scan;
@@ -446,7 +412,7 @@ TEST(SensorNoiseTest, ModelFollowsDeclaredNoise) {
 // all 8 particles propose the same pose after initialize(): one group, and the 8 maps together
 // hold exactly the tiles of one. With motion noise each particle proposes its own pose: 8 groups.
 TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
-  SlamConfig config;
+  SlamConfig config = testing_room::withoutRealRobotSettings(SlamConfig());
   config.particles = 8;
   config.threads = 1;
   config.matcher.enabled = false;
@@ -475,7 +441,7 @@ TEST(ParticleFilterTest, ParticlesWithOneMapAndPoseIntegrateOnce) {
 // take the leader's afterwards), so a group of all 8 particles writes its one map in place: every
 // tile allocated before the update is the same tile after it, none cloned.
 TEST(ParticleFilterTest, OneGroupWritesItsMapInPlace) {
-  SlamConfig config;
+  SlamConfig config = testing_room::withoutRealRobotSettings(SlamConfig());
   config.particles = 8;
   config.threads = 1;
   config.matcher.enabled = false;
@@ -504,17 +470,17 @@ TEST(ParticleFilterTest, OneGroupWritesItsMapInPlace) {
   for (const Particle& p : filter.particles()) EXPECT_EQ(tilesOf(p.map), after);
 }
 
-// The wide-basin match (preset real) recovers a heading error ICP alone does not: after one update
+// The wide-basin match (a default) recovers a heading error ICP alone does not: after one update
 // without merging (unmergedConfig) the 8 particles have 8 maps (8 hypotheses), and when the next
 // odometry increment is 0.9 rad (52°) off in heading, which ICP from the prediction does not
 // recover (point to line recovers 0.6 rad in this small room), each hypothesis runs the multi-start
 // search over ±0.95 rad and every particle is brought back onto the truth. With the search off
-// (preset sim) ICP alone stays caught: the best particle is more than 0.1 rad off.
+// (config/sim.yaml) ICP alone stays caught: the best particle is more than 0.1 rad off.
 TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
   const auto run = [](bool wide, size_t* searches) {
     SlamConfig config = unmergedConfig(8);
     if (wide) {
-      applyRealRobotPreset(&config);
+      config = testing_room::withRealRobotSettings(config);
       config.matcher.heading_window = 0.95;
     }
     ParticleFilter filter(config);
@@ -548,13 +514,13 @@ TEST(ParticleFilterTest, WideMatchRecoversLargeHeadingError) {
 // with motion noise and refined are 8 groups. In the room, where the scan fixes the position
 // every way, a 0.5 ratio merges them all within the wider radius (the refinements end within
 // centimetres); in a corridor, which leaves the position along it free, it merges none, even
-// with a 1 m radius: the spread along it is kept. The same with the wide-basin match (preset
-// real: measured at the match) and without it (measured at the refined pose). A matcher that is
+// with a 1 m radius: the spread along it is kept. The same with the wide-basin match (measured
+// at the match) and without it (measured at the refined pose). A matcher that is
 // point to point (a noisy laser) does not merge wider.
 TEST(ParticleFilterTest, ConstrainedMergeOnlyWhereTheScanFixesThePosition) {
   const auto groups = [](bool wide_match, bool corridor, double ratio, bool to_line = true) {
     SlamConfig config = filterConfig(8);
-    if (wide_match) applyRealRobotPreset(&config);
+    if (wide_match) config = testing_room::withRealRobotSettings(config);
     config.merge_distance = 0.0;
     config.constrained_merge_ratio = ratio;
     config.constrained_merge_distance = 1.0;

@@ -23,7 +23,8 @@ class ScanMatcherTest : public testing::Test {
  protected:
   ScanMatcherTest()
       : model_(SensorModelConfig(), 0.05),
-        matcher_(ScanMatcherConfig(), SensorModelConfig(), 0.05),
+        matcher_(testing_room::withoutRealRobotSettings(SlamConfig()).matcher, SensorModelConfig(),
+                 0.05),
         truth_(-0.3, -0.2, 0.2) {
     // Map the room from two poses so the walls are well established.
     for (const Pose2& p : {truth_, Pose2(0.2, -0.5, -0.3)}) {
@@ -224,29 +225,6 @@ TEST(ScanMatcherSpacingTest, MatchesBeamsAtTheConfiguredSpacing) {
   ScanMatcherConfig dense;
   dense.beam_spacing = 0.0;
   EXPECT_EQ(ScanMatcher(dense, SensorModelConfig(), 0.05).endpoints(half_degree).size(), 361u);
-}
-
-// The stride's interleaved subsets (the particles' refinement, config.h interleave_subsets) hold
-// every usable beam once between them: subset j starts at the j-th usable beam.
-TEST(ScanMatcherSpacingTest, InterleavedSubsetsHoldEveryUsableBeamOnce) {
-  constexpr double kPi = 3.14159265358979323846;
-  const ScanMatcher matcher(ScanMatcherConfig(), SensorModelConfig(), 0.05);
-  // Every other beam a no-return: usable beams 0, 2, 4, ...; every 4th of them per subset.
-  const LaserScan gaps = fanScan(361, kPi, [](int i) { return i % 2 == 1; });
-  ASSERT_EQ(matcher.matchStride(gaps), 4);
-  const size_t expected_sizes[4] = {46, 45, 45, 45};  // 181 usable beams
-  for (int j = 0; j < 4; ++j) {
-    const std::vector<MatchPoint> pts = matcher.endpoints(gaps, j);
-    ASSERT_EQ(pts.size(), expected_sizes[j]) << "subset " << j;
-    // Its first endpoint is usable beam j, i.e. beam 2j, 3 m out along that beam's bearing.
-    const double bearing = gaps.bearings[static_cast<size_t>(2 * j)];
-    EXPECT_NEAR(pts.front().hit.x(), 3.0 * std::cos(bearing), 1e-5) << "subset " << j;
-    EXPECT_NEAR(pts.front().hit.y(), 3.0 * std::sin(bearing), 1e-5) << "subset " << j;
-    // ... and its second is usable beam j + 4 (beam 2j + 8).
-    const double next = gaps.bearings[static_cast<size_t>(2 * j + 8)];
-    EXPECT_NEAR(pts[1].hit.y(), 3.0 * std::sin(next), 1e-5) << "subset " << j;
-  }
-  EXPECT_TRUE(matcher.endpoints(gaps, 4).empty());  // past the stride: no such subset
 }
 
 // On an empty map nothing can be matched: the initial pose is returned unchanged.

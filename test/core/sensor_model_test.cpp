@@ -35,7 +35,6 @@ SensorModelConfig paperConfig() {
   c.forward_window = 3.0;
   c.free_gap = 3.0;
   c.random_weight = 0.2;
-  c.forward_unknown_weight = 1.0;  // the paper's disjunctive rule for m(Θ)
   c.forward_conflict_as_unknown = false;
   c.prior_occupied = 0.4;
   c.usable_range = 20.0;
@@ -93,26 +92,8 @@ TEST_F(ForwardModelTest, UnknownSpaceIsFullyPlausible) {
   EXPECT_NEAR(plausibility(kZ), 0.99996157, 1e-3);
 }
 
-// With forward_unknown_weight w, m̃(Θ) stops the beam only for its share w: in unknown space
-// a_i = w g_i, b_i = 1 - w g_i, so P_0 = 1 - Π(1 - w g_i). w = 0.5: 1 - 0.99932505 ·
-// 0.92067238² · 0.57932765² · 0.50134990 = 0.85746991, pl = 0.8 · 0.85746991 + 0.2 = 0.88597593.
-// w = 0: unknown cells let the beam through like free ones, pl = r.
-TEST_F(ForwardModelTest, UnknownWeightDiscountsUnknownSpace) {
-  SensorModelConfig config = paperConfig();
-  config.forward_unknown_weight = 0.5;
-  const BeamModel half(config, kRes);
-  EXPECT_NEAR(half.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.88597593, 1e-3);
-  config.forward_unknown_weight = 0.0;
-  const BeamModel none(config, kRes);
-  EXPECT_NEAR(none.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.2, 1e-6);
-  // A certain obstacle at the range is as plausible as with the paper's rule (no m̃(Θ) on it).
-  fill(makeCell(0.0f, 1.0f));
-  map_.mutableCell(kHitCell, 0) = makeCell(1.0f, 0.0f);
-  EXPECT_NEAR(half.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.99784016, 1e-4);
-}
-
 // A certainly free hit cell with conflict λ = 0.5 (m(∅) = 1 - e^{-0.5} = 0.39346934), in free
-// space. Normalised (Dempster, the default) it is free: pl = r = 0.2. Read with its conflict as
+// space. Normalised (Dempster, config/sim.yaml) it is free: pl = r = 0.2. Read with its conflict as
 // ignorance (Yager): m(e) = e^{-0.5} = 0.60653066, m(Θ) = 0.39346934, so P_0 = g(0) · 0.39346934
 // = 0.99730020 · 0.39346934 = 0.39240705 and pl = 0.8 · 0.39240705 + 0.2 = 0.51392564.
 TEST_F(ForwardModelTest, ConflictReadAsIgnorance) {

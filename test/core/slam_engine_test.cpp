@@ -15,7 +15,7 @@ namespace {
 using testing_room::roomScan;
 
 SlamConfig smallConfig() {
-  SlamConfig c;
+  SlamConfig c = testing_room::withoutRealRobotSettings(SlamConfig());
   c.particles = 4;
   c.threads = 1;
   return c;

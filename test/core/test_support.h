@@ -65,6 +65,34 @@ inline MotionModelConfig noiselessMotion() {
   return c;
 }
 
+// `c` with the real-robot settings the defaults carry (docs/decisions.md) switched off: no
+// wide-basin match, conflict counted against a pose, no along-track prior, 12 ICP iterations, no
+// long-step settings, the simulated odometry's rotation noise. What most core tests exercise: each
+// of those settings has tests of its own.
+inline SlamConfig withoutRealRobotSettings(SlamConfig c) {
+  c.matcher.heading_window = 0.0;
+  c.sensor.forward_conflict_as_unknown = false;
+  c.along_track_prior = false;
+  c.matcher.icp_iterations = 12;
+  c.long_step.beam_spacing = 0.0;
+  c.long_step.forward_sigma = 0.0;
+  c.motion.alpha_rot_rot = 0.02;
+  return c;
+}
+
+// `c` with the real-robot settings back at their defaults.
+inline SlamConfig withRealRobotSettings(SlamConfig c) {
+  const SlamConfig d;
+  c.matcher.heading_window = d.matcher.heading_window;
+  c.sensor.forward_conflict_as_unknown = d.sensor.forward_conflict_as_unknown;
+  c.along_track_prior = d.along_track_prior;
+  c.matcher.icp_iterations = d.matcher.icp_iterations;
+  c.long_step.beam_spacing = d.long_step.beam_spacing;
+  c.long_step.forward_sigma = d.long_step.forward_sigma;
+  c.motion.alpha_rot_rot = d.motion.alpha_rot_rot;
+  return c;
+}
+
 // Calls fn(tx, ty, tile) for every allocated tile of `map`, row by row.
 template <typename Fn>
 void forEachAllocatedTile(const EvidentialGridMap& map, Fn&& fn) {

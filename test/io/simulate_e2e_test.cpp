@@ -85,7 +85,8 @@ TEST(SimulateE2e, SimulatedRunFeedsTheOfflineRunner) {
   const ProcessResult slam =
       runBinary(ES_OFFLINE_BIN,
                 {"--rawlog", rawlog.string(), "--ground-truth", truth.string(), "--out",
-                 out.string(), "--particles", "20", "--seed", "3", "--threads", "2", "--quiet"},
+                 out.string(), "--preset", "sim", "--particles", "20", "--seed", "3", "--threads",
+                 "2", "--quiet"},
                 dir);
   ASSERT_EQ(slam.exit_code, 0) << slam.err;
   const auto j = nlohmann::json::parse(test::readText(out / "summary.json"));

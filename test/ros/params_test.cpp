@@ -1,9 +1,11 @@
-// The dynamic_reconfigure file and the core agree: every cfg default is the core's default, and
-// parameters survive the round trip through the generated config struct.
+// The dynamic_reconfigure file (generated from the parameter table) and the structs that declare
+// their fields from the same table agree: every cfg default is the struct's default, every
+// run-time row is a cfg field, and parameters survive the round trip through the cfg struct.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <dynamic_reconfigure/Config.h>
 
@@ -46,8 +48,14 @@ TEST(Params, ReconfigureChangesReachTheCoreConfig) {
   c.scan_matching = false;
   c.weight_beam_stride = 3;
   c.map_update_interval = 1.5;
+  c.long_step_distance = 1.2;
+  c.conflict_alarm_factor = 6.0;
+  c.export_octomap = true;
   NodeParams p;
   applyReconfigure(c, &p);
+  EXPECT_DOUBLE_EQ(p.slam.long_step.distance, 1.2);
+  EXPECT_DOUBLE_EQ(p.conflict_alarm.threshold_factor, 6.0);
+  EXPECT_TRUE(p.session.export_octomap);
   EXPECT_DOUBLE_EQ(p.slam.sensor.hit_sigma, 0.07);
   EXPECT_DOUBLE_EQ(p.slam.update_min_distance, 0.2);
   EXPECT_FALSE(p.slam.matcher.enabled);
@@ -56,17 +64,25 @@ TEST(Params, ReconfigureChangesReachTheCoreConfig) {
   EXPECT_DOUBLE_EQ(toReconfigure(p).hit_sigma, 0.07);
 }
 
-// The offline runner's --param names (core: setSlamParameter) are dynamic_reconfigure names, and
-// each sets the same field as the cfg field of that name.
-TEST(Params, CoreParameterNamesAreTheReconfigureNames) {
+// Every run-time row of the table is a dynamic_reconfigure field of that name, and setting it by
+// name (the offline runner's --param, config files) sets the same field as the cfg field does;
+// the start-up rows are not in the cfg.
+TEST(Params, RuntimeParametersAreTheReconfigureFields) {
   const dynamic_reconfigure::Config defaults = asMessage(toReconfigure(NodeParams()));
-  for (const std::string& name : slamParameterNames()) {
+  std::vector<ParameterSpec> specs;
+  NodeParams scratch;
+  forEachNodeParameter(scratch, [&specs](const ParameterSpec& spec, auto&) {
+    specs.push_back(spec);
+  });
+  size_t runtime = 0;
+  for (const ParameterSpec& spec : specs) {
+    const std::string name = spec.name;
     dynamic_reconfigure::Config changed = defaults;
     std::string text;
     bool found = false;
     for (auto& d : changed.doubles) {
       if (d.name != name) continue;
-      d.value += 0.125;  // exact in binary, so the text round trip is exact
+      d.value = d.value + 0.125 <= spec.max ? d.value + 0.125 : spec.min;  // exact in binary
       char buffer[32];
       std::snprintf(buffer, sizeof buffer, "%.17g", d.value);
       text = buffer;
@@ -74,7 +90,7 @@ TEST(Params, CoreParameterNamesAreTheReconfigureNames) {
     }
     for (auto& i : changed.ints) {
       if (i.name != name) continue;
-      i.value += 1;
+      i.value = i.value + 1 <= spec.max ? i.value + 1 : static_cast<int>(spec.min);
       text = std::to_string(i.value);
       found = true;
     }
@@ -84,27 +100,28 @@ TEST(Params, CoreParameterNamesAreTheReconfigureNames) {
       text = b.value ? "true" : "false";
       found = true;
     }
+    for (auto& str : changed.strs) found = found || str.name == name;
+    if (spec.scope == ParameterScope::startup) {
+      EXPECT_FALSE(found) << name << " is start-up only but in cfg/EvidentialSlam.cfg";
+      continue;
+    }
+    ++runtime;
     ASSERT_TRUE(found) << name << " is not in cfg/EvidentialSlam.cfg";
+    if (isNodeParameter(name)) continue;  // no setParameter for the node's own
     EvidentialSlamConfig cfg = EvidentialSlamConfig::__getDefault__();
     ASSERT_TRUE(cfg.__fromMessage__(changed)) << name;
     NodeParams via_reconfigure;
     applyReconfigure(cfg, &via_reconfigure);
-    NodeParams via_core;
+    NodeParams via_name;
     std::string why;
-    ASSERT_TRUE(setSlamParameter(name, text, &via_core.slam, &why)) << why;
-    const dynamic_reconfigure::Config a = asMessage(toReconfigure(via_reconfigure));
-    const dynamic_reconfigure::Config b = asMessage(toReconfigure(via_core));
-    ASSERT_EQ(a.doubles.size(), b.doubles.size());
-    for (size_t i = 0; i < a.doubles.size(); ++i) {
-      EXPECT_EQ(a.doubles[i].value, b.doubles[i].value) << name << " vs " << a.doubles[i].name;
-    }
-    for (size_t i = 0; i < a.ints.size(); ++i) {
-      EXPECT_EQ(a.ints[i].value, b.ints[i].value) << name << " vs " << a.ints[i].name;
-    }
-    for (size_t i = 0; i < a.bools.size(); ++i) {
-      EXPECT_EQ(a.bools[i].value, b.bools[i].value) << name << " vs " << a.bools[i].name;
-    }
+    ASSERT_TRUE(setParameter(name, text, &via_name, &why)) << why;
+    EXPECT_EQ(parameterValues(via_reconfigure), parameterValues(via_name)) << name;
+    EXPECT_NE(parameterValues(via_name), parameterValues(NodeParams())) << name;
   }
+  const size_t fields = defaults.doubles.size() + defaults.ints.size() +
+                        defaults.bools.size() + defaults.strs.size();
+  EXPECT_EQ(fields, runtime);  // and nothing else in the cfg
+  EXPECT_GT(runtime, 50u);
 }
 
 TEST(Params, Validation) {

@@ -17,11 +17,13 @@ namespace {
 
 using testing_room::roomScan;
 
-SlamConfig smallConfig() {
-  SlamConfig c;
-  c.particles = 4;
-  c.threads = 1;
-  return c;
+Parameters smallConfig() {
+  Parameters p;
+  p.slam = testing_room::withoutRealRobotSettings(p.slam);
+  p.slam.particles = 4;
+  p.slam.threads = 1;
+  p.session.time_jump_tolerance = 1.0;
+  return p;
 }
 
 struct Recorder {
@@ -32,10 +34,10 @@ struct Recorder {
   int restarts = 0;
   SlamWorker::Callbacks callbacks() {
     SlamWorker::Callbacks c;
-    c.on_scan = [this](const SlamEngine&, const ScanUpdate& u, double stamp) {
+    c.on_scan = [this](const MappingSession&, const SessionScanResult& r) {
       std::lock_guard<std::mutex> lock(mutex);
-      stamps.push_back(stamp);
-      processed.push_back(u.processed);
+      stamps.push_back(r.stamp);
+      processed.push_back(r.update.processed);
     };
     c.on_warning = [this](const std::string& m, bool restarted) {
       std::lock_guard<std::mutex> lock(mutex);
@@ -48,7 +50,7 @@ struct Recorder {
 
 TEST(SlamWorker, HandlesScansInOrderAndSharesTheMap) {
   Recorder rec;
-  SlamWorker worker(smallConfig(), 1.0, 100, rec.callbacks());
+  SlamWorker worker(smallConfig(), 100, rec.callbacks());
   EXPECT_FALSE(worker.latestMap().grid);
   for (int i = 0; i < 4; ++i) {
     const Pose2 odom(0.3 * i, 0.0, 0.0);
@@ -63,14 +65,15 @@ TEST(SlamWorker, HandlesScansInOrderAndSharesTheMap) {
   EXPECT_DOUBLE_EQ(map.stamp, 12.0);
   EXPECT_FALSE(map.grid->observedBox().empty());
   uint64_t received = 0;
-  worker.runOnWorker([&](const SlamEngine& e) { received = e.stats().scans_received; });
+  worker.runOnWorker(
+      [&](const MappingSession& s) { received = s.engine().stats().scans_received; });
   EXPECT_EQ(received, 4u);
 }
 
 // Back by more than the tolerance: restart (with a warning); back by less: the scan is dropped.
 TEST(SlamWorker, TimeJumpsRestartOrDrop) {
   Recorder rec;
-  SlamWorker worker(smallConfig(), 1.0, 100, rec.callbacks());
+  SlamWorker worker(smallConfig(), 100, rec.callbacks());
   worker.push(Pose2(), roomScan(Pose2(), 100.0));
   worker.push(Pose2(), roomScan(Pose2(), 99.5));  // 0.5 s back: dropped
   worker.waitIdle();
@@ -89,18 +92,19 @@ TEST(SlamWorker, TimeJumpsRestartOrDrop) {
   EXPECT_TRUE(rec.processed.back());  // the first scan of the new run
   EXPECT_GT(worker.latestMap().version, version_before);
   uint64_t received = 0;
-  worker.runOnWorker([&](const SlamEngine& e) { received = e.stats().scans_received; });
+  worker.runOnWorker(
+      [&](const MappingSession& s) { received = s.engine().stats().scans_received; });
   EXPECT_EQ(received, 1u);  // the engine started over
 }
 
 TEST(SlamWorker, FullQueueRefusesScans) {
   Recorder rec;
-  SlamWorker worker(smallConfig(), 1.0, 2, rec.callbacks());
+  SlamWorker worker(smallConfig(), 2, rec.callbacks());
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
   std::atomic<bool> task_running{false};
   std::thread blocker([&] {
-    worker.runOnWorker([&](const SlamEngine&) {
+    worker.runOnWorker([&](const MappingSession&) {
       task_running = true;
       released.wait();
     });
@@ -118,14 +122,14 @@ TEST(SlamWorker, FullQueueRefusesScans) {
 
 TEST(SlamWorker, ReconfigureAppliesBeforeTheNextScan) {
   Recorder rec;
-  SlamWorker worker(smallConfig(), 1.0, 100, rec.callbacks());
-  SlamConfig bad = smallConfig();
-  bad.sensor.random_weight = 2.0;
+  SlamWorker worker(smallConfig(), 100, rec.callbacks());
+  Parameters bad = smallConfig();
+  bad.slam.sensor.random_weight = 2.0;
   std::string why;
   EXPECT_FALSE(worker.reconfigure(bad, &why));
   EXPECT_FALSE(why.empty());
-  SlamConfig gate = smallConfig();
-  gate.update_min_distance = 0.2;
+  Parameters gate = smallConfig();
+  gate.slam.update_min_distance = 0.2;
   ASSERT_TRUE(worker.reconfigure(gate, &why)) << why;
   worker.push(Pose2(), roomScan(Pose2(), 1.0));
   worker.push(Pose2(0.3, 0, 0), roomScan(Pose2(0.3, 0, 0), 2.0));  // 0.3 m > 0.2 m

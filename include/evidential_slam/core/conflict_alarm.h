@@ -21,14 +21,12 @@
 #include <deque>
 #include <string>
 
+#include "evidential_slam/core/parameters.def"
+
 namespace evidential_slam {
 
 struct ConflictAlarmConfig {
-  bool enabled = true;
-  int baseline_scans = 50;  // processed scans in the running baseline (median)
-  int warmup_scans = 10;    // no alarm before the baseline holds this many (or baseline_scans)
-  double threshold_factor = 4.0;  // alarm when the input > factor * baseline
-  double min_added = 5.0;         // ... and above this floor (m(∅) summed over cells: ~cells)
+  ES_CONFLICT_ALARM_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
   bool isValid(std::string* why) const;
 };

@@ -31,9 +31,8 @@ class ScanMatcher {
   const ScanMatcherConfig& config() const { return config_; }
 
   // Beam endpoints in the robot frame used for matching: every matchStride()-th usable hit,
-  // starting from the `subset`-th (0 <= subset < matchStride(); taken over every subset, each
-  // usable hit once).
-  std::vector<MatchPoint> endpoints(const LaserScan& scan, int subset = 0) const;
+  // starting from the first.
+  std::vector<MatchPoint> endpoints(const LaserScan& scan) const;
   // Every how many beams of `scan` an endpoint is matched: the beam_spacing in the scan's mean
   // angular step, rounded, at least 1 (2 for a 1° laser, 4 for a 0.5° one).
   int matchStride(const LaserScan& scan) const;

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "evidential_slam/core/evidential_grid.h"
-#include "evidential_slam/io/offline_runner.h"
 
 namespace evidential_slam {
 namespace io {
@@ -56,11 +55,6 @@ extern const char* const kColorOtSuffix;       // ".color.ot"
 // to bound memory.
 bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& config,
                    const std::string& path_prefix, OctomapExportResult* result, std::string* error);
-
-// The offline runner's --export-octomap (a MapExporter, offline_runner.h): writes
-// <out>/octomap/map.{evidential.ot,bt,color.ot} with the slab heights of the options.
-bool exportOctomapForOfflineRun(const EvidentialGridMap& map, const OfflineOptions& options,
-                                MapExportReport* report, std::string* error);
 
 }  // namespace io
 }  // namespace evidential_slam

@@ -36,6 +36,7 @@ struct RunSummary {
   uint64_t scans_processed = 0;         // integrated (passed the motion gate)
   uint64_t scans_rejected = 0;          // refused by the core (ScanUpdate::rejected)
   uint64_t scans_without_odometry = 0;  // in the log but dropped by the reader
+  uint64_t scans_dropped = 0;           // older than the scan before them (session)
   uint64_t rays_total = 0;
   uint64_t rays_bad = 0;  // NaN / inf / negative, skipped
   uint64_t rays_no_return = 0;
@@ -44,8 +45,10 @@ struct RunSummary {
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;  // inside processScan only
   double peak_rss_mb = 0.0;
-  std::string preset;                                           // offline runner --preset
+  std::vector<std::string> config_files;  // --config / --preset files, in the order applied
   std::vector<std::pair<std::string, std::string>> parameters;  // --param NAME=VALUE, as given
+  // Every parameter's value the run used (the table's names, in its order).
+  std::vector<std::pair<std::string, std::string>> parameter_values;
   int particles = 0;
   double resolution = 0.0;
   uint64_t seed = 0;

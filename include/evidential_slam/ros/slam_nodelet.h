@@ -20,7 +20,6 @@
 #include <nav_msgs/GetMap.h>
 #include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/SaveMap.h"
-#include "evidential_slam/core/conflict_alarm.h"
 #include "evidential_slam/ros/map_publisher.h"
 #include "evidential_slam/ros/params.h"
 #include "evidential_slam/ros/slam_worker.h"
@@ -40,10 +39,10 @@ class SlamNodelet : public nodelet::Nodelet {
                               tf2_ros::filter_failure_reasons::FilterFailureReason reason);
   void onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg);
   void checkWaitingScans(const ros::WallTimerEvent&);
-  void onScanHandled(const SlamEngine& engine, const ScanUpdate& update, double stamp);
+  void onScanHandled(const MappingSession& session, const SessionScanResult& result);
   void onReconfigure(EvidentialSlamConfig& config, uint32_t level);
   void publishTransform(const ros::TimerEvent&);
-  void reportConflict(const ScanUpdate& update, const ros::Time& stamp);
+  void reportConflict(const SessionScanResult& result, const ros::Time& stamp);
   bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
   bool getMap(nav_msgs::GetMap::Request& request, nav_msgs::GetMap::Response& response);
 
@@ -62,8 +61,6 @@ class SlamNodelet : public nodelet::Nodelet {
   // map's open space that the alarm watches (~open_space_conflict_added) and a diagnostic_msgs
   // status on /diagnostics; a warning when a new alarm rises.
   ros::Publisher conflict_pub_, open_space_conflict_pub_, diagnostics_pub_;
-  std::mutex alarm_mutex_;
-  ConflictAlarm alarm_;
   ros::ServiceServer save_map_srv_, get_map_srv_;
   ros::Timer map_timer_, tf_timer_;
   // The filter holds a scan until its tf arrives and says nothing meanwhile: this watchdog warns,

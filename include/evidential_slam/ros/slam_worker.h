@@ -1,7 +1,6 @@
-// Runs the SLAM engine on its own thread, so ROS callbacks only convert and enqueue. Scans are
-// processed strictly in arrival order; a scan older than the previous one by more than the time
-// jump tolerance (a looping bag, a restarted simulator) restarts the SLAM, a smaller step back is
-// dropped. No ROS in here: the nodelet wires the callbacks to publishers.
+// Runs a MappingSession (session/session.h: scan order, engine, conflict alarm) on its own
+// thread, so ROS callbacks only convert and enqueue. No ROS in here: the nodelet wires the
+// callbacks to publishers.
 #pragma once
 
 #include <condition_variable>
@@ -12,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "evidential_slam/core/slam_engine.h"
+#include "evidential_slam/session/session.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -28,16 +27,15 @@ struct MapSnapshot {
 class SlamWorker {
  public:
   struct Callbacks {
-    // After every scan the engine handled (processed or gated), on the worker thread. The engine
-    // may be read inside; it is not changed while the callback runs.
-    std::function<void(const SlamEngine& engine, const ScanUpdate& update, double stamp)> on_scan;
+    // After every scan the session handed to the engine (processed or gated), on the worker
+    // thread. The session may be read inside; it is not changed while the callback runs.
+    std::function<void(const MappingSession& session, const SessionScanResult& result)> on_scan;
     // Something the user should know, one line: a restart after a time jump (`restarted`), or a
     // scan dropped or refused (frequent; worth throttling).
     std::function<void(const std::string& message, bool restarted)> on_warning;
   };
 
-  SlamWorker(const SlamConfig& config, double time_jump_tolerance, size_t max_queue,
-             Callbacks callbacks);
+  SlamWorker(const Parameters& params, size_t max_queue, Callbacks callbacks);
   ~SlamWorker();  // finishes the scan in progress, drops the queue, joins the thread
   SlamWorker(const SlamWorker&) = delete;
   SlamWorker& operator=(const SlamWorker&) = delete;
@@ -47,11 +45,11 @@ class SlamWorker {
   bool push(const Pose2& odometry, const LaserScan& scan);
 
   // New run-time parameters, applied before the next scan. False (and `why`) when invalid.
-  bool reconfigure(const SlamConfig& config, std::string* why);
+  bool reconfigure(const Parameters& params, std::string* why);
 
   // Runs `task` on the worker thread between two scans and waits for it: the way to read the
-  // engine (trajectory, stats) from another thread.
-  void runOnWorker(const std::function<void(const SlamEngine& engine)>& task);
+  // session (trajectory, stats, the conflict log) from another thread.
+  void runOnWorker(const std::function<void(const MappingSession& session)>& task);
 
   MapSnapshot latestMap() const;
   // Blocks until every queued scan has been handled (tests, shutdown of a player run).
@@ -62,8 +60,7 @@ class SlamWorker {
  private:
   void run();
 
-  SlamEngine engine_;
-  const double time_jump_tolerance_;
+  MappingSession session_;
   const size_t max_queue_;
   Callbacks callbacks_;
 
@@ -76,13 +73,11 @@ class SlamWorker {
   std::condition_variable idle_;
   std::deque<Item> queue_;
   std::deque<std::function<void()>> tasks_;
-  std::unique_ptr<SlamConfig> pending_config_;
+  std::unique_ptr<Parameters> pending_params_;
   bool busy_ = false;
   bool stop_ = false;
   MapSnapshot map_;
   uint64_t resets_ = 0;
-  bool have_last_stamp_ = false;
-  double last_stamp_ = 0.0;
   std::thread thread_;  // last: starts after everything above exists
 };
 

@@ -192,33 +192,5 @@ bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& con
   return true;
 }
 
-bool exportOctomapForOfflineRun(const EvidentialGridMap& map, const OfflineOptions& options,
-                                MapExportReport* report, std::string* error) {
-  const fs::path dir = fs::path(options.out_dir) / "octomap";
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) {
-    if (error) {
-      *error = "cannot create output directory '" + dir.string() +
-               "': " + (ec ? ec.message() : "not a directory");
-    }
-    return false;
-  }
-  OctomapExportConfig config;
-  config.z_min = options.octomap_z_min;
-  config.z_max = options.octomap_z_max;
-  OctomapExportResult result;
-  if (!exportOctomap(map, config, (dir / "map").string(), &result, error)) return false;
-  *report = MapExportReport();
-  for (const OctomapExportFile& f : result.files) {
-    report->files.push_back(f.path);
-    report->bytes.push_back(f.bytes);
-  }
-  report->seconds = result.seconds;
-  report->z_layers = result.z_layers;
-  report->voxels = result.voxels;
-  return true;
-}
-
 }  // namespace io
 }  // namespace evidential_slam

@@ -1,0 +1,103 @@
+// The parameter table (parameters.def) as data: each parameter's description, a visitor over the
+// fields of a config, setting a parameter from text (YAML files, --param NAME=VALUE, ROS
+// parameters all go through it) and range checks. ROS-free; ros/params.h binds the same rows to
+// the parameter server and dynamic_reconfigure.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/conflict_alarm.h"
+
+namespace evidential_slam {
+
+enum class ParameterScope { runtime, startup };
+
+// One row of the table, without its field.
+struct ParameterSpec {
+  const char* name;
+  const char* type;  // "int", "double", "bool" or "std::string"
+  double min;        // valid range (numbers only), inclusive
+  double max;
+  const char* unit;
+  ParameterScope scope;
+  const char* meaning;
+};
+
+// Visits one row: visit(spec, field).
+#define ES_VISIT_PARAMETER(ctx, name, member, type, def, min, max, unit, scope, meaning)   \
+  visit(::evidential_slam::ParameterSpec{#name, #type, static_cast<double>(min),           \
+                                         static_cast<double>(max), unit,                    \
+                                         ::evidential_slam::ParameterScope::scope, meaning}, \
+        (ctx).member);
+
+// What both front ends do around the SLAM engine (session/): the order of scans, and the map files
+// written by the offline runner's --out and the node's ~save_map.
+struct SessionConfig {
+  ES_SESSION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+
+  bool isValid(std::string* why) const;
+};
+
+// Every parameter the offline runner and the node share: the SLAM's, the conflict alarm's and
+// the session's. The node's own parameters are ros/params.h's.
+struct Parameters {
+  SlamConfig slam;
+  ConflictAlarmConfig conflict_alarm;
+  SessionConfig session;
+
+  bool isValid(std::string* why) const;
+};
+
+template <typename SharedParameters, typename Visitor>
+void forEachSharedParameter(SharedParameters& p, Visitor&& visit) {
+  ES_SLAM_CONFIG_PARAMETERS(ES_VISIT_PARAMETER, p.slam)
+  ES_CONFLICT_ALARM_PARAMETERS(ES_VISIT_PARAMETER, p.conflict_alarm)
+  ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, p.session)
+}
+
+// The rows of the shared parameters, in table order.
+std::vector<ParameterSpec> sharedParameterSpecs();
+// Names of the parameters only the ROS node reads (frames, publishing, ...): a config file shared
+// by both front ends may hold them, and the offline runner passes over them.
+bool isNodeParameter(const std::string& name);
+
+// Parses `text` into `field` and checks it against `spec`'s range. False with a one-line `why`
+// (naming the parameter) for a value of the wrong type or out of range; the field is unchanged
+// then. Numbers: whole-string decimal; switches: true/false/1/0.
+bool parseParameter(const ParameterSpec& spec, const std::string& text, int* field,
+                    std::string* why);
+bool parseParameter(const ParameterSpec& spec, const std::string& text, double* field,
+                    std::string* why);
+bool parseParameter(const ParameterSpec& spec, const std::string& text, bool* field,
+                    std::string* why);
+bool parseParameter(const ParameterSpec& spec, const std::string& text, std::string* field,
+                    std::string* why);
+
+// True when `value` is within `spec`'s range (always for switches and strings); else `why`.
+bool inRange(const ParameterSpec& spec, double value, std::string* why);
+bool inRange(const ParameterSpec& spec, int value, std::string* why);
+bool inRange(const ParameterSpec& spec, bool value, std::string* why);
+bool inRange(const ParameterSpec& spec, const std::string& value, std::string* why);
+
+// Sets one shared parameter by name from text. False with a one-line reason for an unknown name
+// (node parameters included: use isNodeParameter to pass over them) or a bad value.
+bool setParameter(const std::string& name, const std::string& value, Parameters* params,
+                  std::string* why);
+
+// Every shared parameter's value as text (for summaries and map files), in table order.
+std::vector<std::pair<std::string, std::string>> parameterValues(const Parameters& p);
+
+// Range checks of every row of `Config`'s list (its isValid builds on it): the first failure's
+// message goes to `why`.
+#define ES_CHECK_PARAMETER_RANGE(ctx, name, member, type, def, min, max, unit, scope, meaning) \
+  ok = ok && ::evidential_slam::inRange(                                                       \
+                 ::evidential_slam::ParameterSpec{#name, #type, static_cast<double>(min),      \
+                                                  static_cast<double>(max), unit,              \
+                                                  ::evidential_slam::ParameterScope::scope,    \
+                                                  meaning},                                    \
+                 (ctx).member, why);
+
+}  // namespace evidential_slam

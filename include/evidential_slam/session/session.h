@@ -1,0 +1,69 @@
+// What both front ends do around the SLAM engine, once: the order of the scans (a scan older than
+// the previous one is dropped; a jump back beyond time_jump_tolerance, a looping bag, starts
+// over), the conflict alarm and its per-scan record. The offline runner feeds it a rawlog, the
+// ROS node's worker thread feeds it LaserScans; both write its map files with writeMapFiles.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/core/conflict_alarm.h"
+#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/slam_engine.h"
+
+namespace evidential_slam {
+
+// One processed scan: what it added to the best map and the alarm's verdict (conflict.csv).
+struct ConflictRecord {
+  double stamp = 0.0;
+  double ec_added_bits = 0.0;
+  double conflict_mass_added = 0.0;
+  ConflictAlarmState alarm;
+};
+
+// What became of one scan given to the session.
+struct SessionScanResult {
+  enum class Order {
+    kInOrder,    // handed to the engine
+    kDropped,    // older than the previous scan, within the tolerance: not used
+    kRestarted,  // time jumped back beyond the tolerance: the SLAM started over with this scan
+  };
+  Order order = Order::kInOrder;
+  double stamp = 0.0;   // the scan's
+  std::string message;  // one line, for kDropped and kRestarted
+  ScanUpdate update;    // the engine's answer (unless dropped)
+  ConflictAlarmState alarm;  // when update.processed
+};
+
+class MappingSession {
+ public:
+  // Throws std::invalid_argument for invalid parameters (check Parameters::isValid first).
+  explicit MappingSession(const Parameters& params);
+
+  SessionScanResult processScan(const Pose2& odometry, const LaserScan& scan);
+
+  // New run-time parameters (the start-up ones keep their values). False (and `why`) when
+  // invalid; nothing changes then.
+  bool reconfigure(const Parameters& params, std::string* why);
+  // Starts over: no particles, no map, no conflict record.
+  void reset();
+
+  const SlamEngine& engine() const { return engine_; }
+  const Parameters& parameters() const { return params_; }
+  const std::vector<ConflictRecord>& conflictLog() const { return conflict_log_; }
+  uint64_t scansDropped() const { return dropped_; }
+  uint64_t restarts() const { return restarts_; }
+
+ private:
+  Parameters params_;
+  SlamEngine engine_;
+  ConflictAlarm alarm_;
+  std::vector<ConflictRecord> conflict_log_;
+  bool have_last_stamp_ = false;
+  double last_stamp_ = 0.0;
+  uint64_t dropped_ = 0;
+  uint64_t restarts_ = 0;
+};
+
+}  // namespace evidential_slam

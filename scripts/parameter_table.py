@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+"""The parameter table (include/evidential_slam/core/parameters.def) for Python: rows, and the
+Markdown tables of the docs made from them.
+
+  scripts/parameter_table.py markdown          print the tables
+  scripts/parameter_table.py update FILE...    rewrite the generated blocks of FILEs
+  scripts/parameter_table.py check FILE... [--junit XML]
+                                               fail when a generated block differs
+
+A generated block lies between `<!-- BEGIN GENERATED: parameters -->` and
+`<!-- END GENERATED: parameters -->`. cfg/EvidentialSlam.cfg imports this module too.
+"""
+import csv
+import io
+import os
+import re
+import sys
+import xml.etree.ElementTree as ET
+
+HERE = os.path.dirname(os.path.realpath(__file__))
+DEF_FILE = os.path.join(HERE, "..", "include", "evidential_slam", "core", "parameters.def")
+BEGIN = "<!-- BEGIN GENERATED: parameters -->"
+END = "<!-- END GENERATED: parameters -->"
+
+# Lists in the order the docs show them, with their heading.
+GROUPS = [
+    ("FILTER", "filter", "Particle filter"),
+    ("SENSOR_MODEL", "sensor_model", "Sensor models"),
+    ("MOTION_MODEL", "motion_model", "Motion model"),
+    ("SCAN_MATCHER", "scan_matcher", "Scan matching"),
+    ("LONG_STEP", "long_step", "After a long odometry step"),
+    ("CONFLICT_ALARM", "conflict_alarm", "Conflict alarm"),
+    ("SESSION", "session", "Scan order and saved maps"),
+    ("NODE", "node", "ROS node only"),
+]
+FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
+
+
+class Row(dict):
+    __getattr__ = dict.__getitem__
+
+
+def rows(path=DEF_FILE):
+    """Every row of the table, in file order, with its list ('group')."""
+    result, group = [], None
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            m = re.match(r"#define ES_(\w+)_PARAMETERS\(X, ctx\)", line)
+            if m:
+                group = m.group(1)
+                continue
+            m = re.match(r"\s*X\((.*)\)\s*\\?\s*$", line)
+            if not m or group is None:
+                continue
+            cells = next(csv.reader(io.StringIO(m.group(1)), skipinitialspace=True))
+            if len(cells) != len(FIELDS):
+                raise ValueError("%s: a row with %d cells: %s" % (path, len(cells), line))
+            row = Row(zip(FIELDS, [c.strip() for c in cells]))
+            row["group"] = group
+            result.append(row)
+    return result
+
+
+def python_value(row, text):
+    t = row.type
+    if t == "bool":
+        return text == "true"
+    if t == "int":
+        return int(text)
+    if t == "double":
+        return float(text)
+    return text.strip('"')
+
+
+def default_text(row):
+    if row.type == "std::string":
+        return "`%s`" % row.default.strip('"')
+    return "`%s`" % row.default
+
+
+def range_text(row):
+    if row.type in ("bool", "std::string"):
+        return ""
+    return "%s – %s" % (row.min, row.max)
+
+
+def markdown():
+    out = []
+    all_rows = rows()
+    for key, _, title in GROUPS:
+        group = [r for r in all_rows if r.group == key]
+        if not group:
+            continue
+        out.append("**%s**\n" % title)
+        out.append("| name | type | default | range | unit | meaning |")
+        out.append("|---|---|---|---|---|---|")
+        for r in group:
+            meaning = r.meaning + ("" if r.scope == "runtime" else " *(start-up only)*")
+            out.append("| `%s` | %s | %s | %s | %s | %s |" % (
+                r.name, r.type.replace("std::", ""), default_text(r), range_text(r), r.unit,
+                meaning.replace("|", "\\|")))
+        out.append("")
+    return "\n".join(out).rstrip("\n") + "\n"
+
+
+def replace_block(text, block):
+    if BEGIN not in text or END not in text:
+        return None
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    return head + BEGIN + "\n" + block + END + tail
+
+
+def main(argv):
+    if not argv or argv[0] not in ("markdown", "update", "check"):
+        print(__doc__)
+        return 1
+    if argv[0] == "markdown":
+        sys.stdout.write(markdown())
+        return 0
+    junit = None
+    files = []
+    args = argv[1:]
+    while args:
+        a = args.pop(0)
+        if a == "--junit":
+            junit = args.pop(0)
+        else:
+            files.append(a)
+    block = markdown()
+    failures = []
+    for path in files:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        new = replace_block(text, block)
+        if new is None:
+            failures.append("%s: no generated parameter block" % path)
+        elif argv[0] == "update":
+            if new != text:
+                with open(path, "w", encoding="utf-8") as f:
+                    f.write(new)
+        elif new != text:
+            failures.append("%s: the parameter tables differ from the table "
+                            "(run scripts/parameter_table.py update %s)" % (path, path))
+    for f in failures:
+        print("error: " + f)
+    if junit:
+        suite = ET.Element("testsuite", name="parameter_tables", tests=str(len(files)),
+                           failures=str(len(failures)), errors="0")
+        for path in files:
+            case = ET.SubElement(suite, "testcase", classname="parameter_tables",
+                                 name=os.path.basename(path))
+            for f in failures:
+                if f.startswith(path + ":"):
+                    ET.SubElement(case, "failure", message=f)
+        os.makedirs(os.path.dirname(os.path.abspath(junit)), exist_ok=True)
+        ET.ElementTree(suite).write(junit, encoding="utf-8", xml_declaration=True)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,106 @@
+#include "evidential_slam/session/map_files.h"
+
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "evidential_slam/core/layers.h"
+#include "evidential_slam/io/layer_writer.h"
+#include "evidential_slam/io/octomap_export.h"
+#include "evidential_slam/io/trajectory_io.h"
+
+namespace evidential_slam {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool makeDirectory(const fs::path& dir, std::string* error) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!ec && fs::is_directory(dir)) return true;
+  if (error != nullptr) {
+    *error = "cannot create directory '" + dir.string() +
+             "': " + (ec ? ec.message() : "not a directory");
+  }
+  return false;
+}
+
+bool writeConflictCsv(const std::string& path, const std::vector<ConflictRecord>& rows,
+                      std::string* error) {
+  std::ofstream f(path);
+  f << "# per processed scan: stamp (s), the external conflict (bits) and the conflict mass m(0) "
+       "(summed over cells) it added to the best map, the part of that mass added in the map's "
+       "open space (the alarm's input), the alarm's running baseline of it, their ratio, alarm "
+       "(1 = above threshold)\n"
+    << "stamp,ec_added_bits,conflict_mass_added,open_space_conflict_added,baseline,ratio,alarm\n";
+  char line[200];
+  for (const ConflictRecord& r : rows) {
+    std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", r.stamp,
+                  r.ec_added_bits, r.conflict_mass_added, r.alarm.added, r.alarm.baseline,
+                  r.alarm.ratio, r.alarm.alarm ? 1 : 0);
+    f << line;
+  }
+  f.close();
+  if (f) return true;
+  if (error != nullptr) *error = "cannot write '" + path + "'";
+  return false;
+}
+
+}  // namespace
+
+bool writeMapFiles(const std::string& dir, const EvidentialGridMap& map,
+                   const std::vector<StampedPose>& trajectory,
+                   const std::vector<ConflictRecord>& conflicts, const SessionConfig& config,
+                   MapFilesReport* report, std::string* error) {
+  *report = MapFilesReport();
+  const fs::path root(dir);
+  const fs::path layers_dir = root / "layers";
+  if (!makeDirectory(layers_dir, error)) return false;
+
+  const std::string tum = (root / "trajectory.tum").string();
+  if (!io::writeTumTrajectory(tum, trajectory, error)) return false;
+  report->files.push_back(tum);
+  const std::string csv = (root / "conflict.csv").string();
+  if (!writeConflictCsv(csv, conflicts, error)) return false;
+  report->files.push_back(csv);
+
+  const LayerRaster raster = extractLayers(map);
+  io::LayerWriterConfig layer_config;
+  layer_config.occupied_thresh = config.occupied_thresh;
+  layer_config.free_thresh = config.free_thresh;
+  io::LayerWriteResult written;
+  if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error) ||
+      !io::writeMapServerLayers(raster, layers_dir.string(), layer_config, &report->files,
+                                error)) {
+    return false;
+  }
+  report->files.insert(report->files.end(), written.files.begin(), written.files.end());
+  report->map_width = raster.width;
+  report->map_height = raster.height;
+  report->external_conflict_scale = written.external_conflict_scale;
+
+  if (config.export_octomap) {
+    const fs::path octomap_dir = root / "octomap";
+    if (!makeDirectory(octomap_dir, error)) return false;
+    io::OctomapExportConfig octomap_config;
+    octomap_config.z_min = config.octomap_z_min;
+    octomap_config.z_max = config.octomap_z_max;
+    io::OctomapExportResult result;
+    if (!io::exportOctomap(map, octomap_config, (octomap_dir / "map").string(), &result, error)) {
+      return false;
+    }
+    OctomapFilesReport octomap;
+    for (const io::OctomapExportFile& f : result.files) {
+      octomap.files.push_back(f.path);
+      octomap.bytes.push_back(f.bytes);
+      report->files.push_back(f.path);
+    }
+    octomap.seconds = result.seconds;
+    octomap.z_layers = result.z_layers;
+    octomap.voxels = result.voxels;
+    report->octomap = octomap;
+  }
+  return true;
+}
+
+}  // namespace evidential_slam
