@@ -75,8 +75,8 @@ struct ScanMatcherConfig {
   // stopping at 12 left real odometry's proposals short of their match (aces-synth seeds 1-10:
   // 4 over 0.3 m; 1 with 30; but seeds 11-30, not used to choose it: 11 with 12, 14 with 30, so
   // no gain shown on aces-synth). Simulated odometry starts ICP near its match: simul.rawlog gives
-  // the same trajectory with 30, range_030_bearing_015.rawlog a worse one (docs/experiments.md,
-  // "ICP iterations" and "Fresh seeds").
+  // the same trajectory with 30, range_030_bearing_015.rawlog a worse one
+  // (docs/decisions.md#icp-iterations).
   int icp_iterations = 12;
   // ICP minimises each endpoint's distance to the line through the target cells around its match
   // (their axis of least spread is the normal), by Gauss-Newton steps, so it does not slide along
@@ -96,7 +96,7 @@ struct ScanMatcherConfig {
   // each at the cost of one subset, and the weights, which read every beam, choose among them.
   // false: every particle on subset 0. The wide-basin match always uses subset 0. Off, also in
   // the real preset: on aces-synth it gave 7 misses of 0.3 m in seeds 11-30 against 14, but the
-  // same 7 as without it in fresh seeds 31-50 (docs/experiments.md, "Interleaved beam subsets").
+  // same 7 as without it in fresh seeds 31-50 (docs/decisions.md#interleaved-beam-subsets).
   bool interleave_subsets = false;
   // Beam spacing (rad) for a long step: when the odometry moved at least long_step_distance or
   // turned at least long_step_angle since the last processed scan (isLongStep; these two also
@@ -107,8 +107,8 @@ struct ScanMatcherConfig {
   // applyRealRobotPreset: 1°. Every beam matched everywhere took aces-synth (seeds 1-50) from 22
   // misses of 0.3 m to 13 but freiburg-079 below 20x real time; after long steps only, fresh
   // aces-synth seeds 61-100 missed on 15 against 19, aces (seeds 1-20) met 0.5 m on all, and
-  // freiburg-079 (9 % of its steps long) kept 21.5-22.5x (docs/experiments.md, "Every beam after
-  // a long step").
+  // freiburg-079 (9 % of its steps long) kept 21.5-22.5x
+  // (docs/decisions.md#long-step-beam-spacing).
   double long_step_beam_spacing = 0.0;
   double long_step_distance = 0.8;  // m
   double long_step_angle = 0.3;     // rad (17°)
@@ -171,7 +171,7 @@ struct SlamConfig {
   // only memory of the distance travelled, so it is kept there. Only for a laser matched point to
   // line (a noisy laser's banded walls read as fixed everywhere). 0 = off. simul.rawlog (seeds
   // 1-3) takes 31 % less time with it at the same accuracy, freiburg-079 23-25x real time instead
-  // of 18-19x (docs/experiments.md, "Constrained merge").
+  // of 18-19x (docs/decisions.md#constrained-merge).
   double constrained_merge_ratio = 0.5;
   double constrained_merge_distance = 0.05;  // m
   double constrained_merge_angle = 0.02;     // rad
