@@ -7,7 +7,7 @@
 // is a static tf. The robot follows ~waypoints, or `cmd_vel` (geometry_msgs/Twist) when no
 // waypoint file is given. When the route ends (or ~duration passes) the latched `~done`
 // (std_msgs/Bool) turns true and the clock keeps running so timers downstream still fire.
-// Parameters: every GridmapSimulatorConfig field under its own name (README "Simulator").
+// Parameters: every GridmapSimulatorConfig field under its own name (docs/simulator.md).
 #include <algorithm>
 #include <cmath>
 #include <string>

@@ -350,9 +350,9 @@ TEST_F(OfflineE2E, MaxScans) {
 // (benchmark data outside the package: shared/ beside the clone, or $ES_RADISH_DIR), mapped with
 // the defaults (which are for real robots) at issue 6's K = 100 (about 40 s on 2 cores). Odometry alone is off by
 // 5.4 m RMSE; SLAM must stay within issue 6's target, 0.5 m (seeds 1-10 gave 0.11-0.22 m; seed 1,
-// run here, 0.148 m: README, "Real robot logs"). At K = 30 an earlier preset ran it in 10 s but
-// was not robust there: seeds 1-3 gave 0.19, 0.45, 0.63 m. Skipped, saying why, where the logs
-// are absent.
+// run here, 0.148 m: docs/benchmarks.md#real-robot-logs). At K = 30 an earlier preset ran it in
+// 10 s but was not robust there: seeds 1-3 gave 0.19, 0.45, 0.63 m. Skipped, saying why, where
+// the logs are absent.
 TEST_F(OfflineE2E, RealRobotLogWithRawOdometry) {
   const char* env_dir = std::getenv("ES_RADISH_DIR");
   const fs::path dir = env_dir != nullptr ? env_dir : ES_RADISH_DIR;

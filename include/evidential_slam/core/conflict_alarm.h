@@ -13,7 +13,7 @@
 // exploration hides a moving object that adds as much. That surface-band conflict lies next to
 // cells the map holds occupied or has never seen; a moving object in mapped free space, or a scan
 // placed at a wrong pose, puts hits where the map holds open floor, which a correct scan of a
-// static world does not (README, "Conflict alarm", for the numbers). The floor `min_added` is in
+// static world does not (docs/ros.md#conflict-alarm, for the numbers). The floor `min_added` is in
 // the same unit, roughly the number of open-space cells newly contradicted.
 #pragma once
 

@@ -8,7 +8,7 @@
 // for heavily conflicted cells whose explicit masses would round away. Byte layout of one node in
 // the file (host byte order, i.e. little-endian on x86/ARM, like every OctoMap file):
 //   float32 log-odds of BetP(o) | float32 m̃(o) | float32 m̃(e) | float32 λ | uint8 child bits
-// (the child byte is OctoMap's: bit i set = child i follows, depth first; see the README).
+// (the child byte is OctoMap's: bit i set = child i follows, depth first; see docs/octomap.md).
 //
 // The type registers itself with OctoMap's tree factory (AbstractOcTree::read / createTree find it
 // by the name "EvidentialOcTree") when this library is loaded. Debian links with --as-needed, which
