@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "evidential_slam/io/parameter_file.h"
@@ -200,6 +202,22 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
     EXPECT_FALSE(error.empty());
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
+}
+
+// The README's option table lists every option of the usage text.
+TEST(OfflineArgs, ReadmeListsEveryOption) {
+  std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../README.md");
+  ASSERT_TRUE(in.good());
+  const std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string usage = offlineUsage("prog");
+  int options = 0;
+  for (size_t p = usage.find("\n  --"); p != std::string::npos; p = usage.find("\n  --", p + 1)) {
+    const size_t end = usage.find_first_of(" \n", p + 3);
+    const std::string option = usage.substr(p + 3, end - p - 3);
+    ++options;
+    EXPECT_NE(readme.find("`" + option + "`"), std::string::npos) << option;
+  }
+  EXPECT_GE(options, 14);
 }
 
 TEST(OfflineArgs, Help) {
