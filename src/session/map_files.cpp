@@ -19,7 +19,7 @@ bool makeDirectory(const fs::path& dir, std::string* error) {
   fs::create_directories(dir, ec);
   if (!ec && fs::is_directory(dir)) return true;
   if (error != nullptr) {
-    *error = "cannot create directory '" + dir.string() +
+    *error = "cannot create output directory '" + dir.string() +
              "': " + (ec ? ec.message() : "not a directory");
   }
   return false;

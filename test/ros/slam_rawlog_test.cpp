@@ -123,8 +123,9 @@ TEST(SlamRawlog, MapsTheLogThroughRos) {
   save.request.directory = dir.string();
   ASSERT_TRUE(ros::service::call("/evidential_slam/save_map", save));
   ASSERT_TRUE(save.response.success) << save.response.message;
-  for (const char* f : {"pignistic.pgm", "pignistic.yaml", "external_conflict.npy", "composite.png",
-                        "trajectory.tum"}) {
+  for (const char* f : {"layers/pignistic.pgm", "layers/pignistic.yaml",
+                        "layers/external_conflict.npy", "layers/composite.png", "trajectory.tum",
+                        "conflict.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }
   std::vector<StampedPose> trajectory;
