@@ -1,0 +1,72 @@
+// Estimates the pose of one evidential map in another's frame: an exhaustive search over yaw and
+// translation on pooled grids, refined coarse to fine and then by the project's scan matcher (ICP
+// on the moving map's occupied cells), every candidate scored by the conflict fusing the maps
+// there would create. Refuses when no pose explains the overlap.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+namespace fusion {
+
+// A pose is judged by its structure conflict: over the cells both maps observed there (the
+// overlap), Σ K / Σ (m̃(o) of either map), K = m̃_A(o) m̃_B(e) + m̃_A(e) m̃_B(o) being the conflict the
+// fusion creates in a cell: the share of the occupied evidence in the overlap that the other map
+// contradicts. A cell's m̃(e) counts here only as far as its 3 x 3 neighbours are free too (the
+// smallest of their m̃(e)): maps are judged up to a cell of misregistration (each map's own
+// distortion, nearest-neighbour resampling), not by the edges of their walls. Poses are ranked by
+// their score, (Σ K + S₀/2) / (Σ m̃(o) + S₀), S₀ the occupied evidence the overlap must hold
+// (min_overlap): an overlap that barely meets the requirement cannot win on a few cells that happen
+// not to conflict. The search runs on pooled grids (alignment.cpp).
+struct AlignmentConfig {
+  // m: the exhaustive search's pooled cell (the map's cell times the smallest power of two that
+  // reaches it; coarser when a grid would exceed max_search_cells).
+  double search_resolution = 0.8;
+  int max_search_cells = 320;  // FFT grid cells per axis at most (the two maps' extents together)
+  // rad between searched yaws; 0: the arc of two pooled cells at the moving map's farthest observed
+  // cell from its origin.
+  double yaw_step = 0.0;
+  int candidates = 8;  // best distinct poses of the search that are refined
+  // m: the coarse-to-fine refinement's finest pooled cell, before ICP (about the matcher's reach).
+  double refine_resolution = 0.2;
+  // The overlap must hold at least this share of the smaller map's observed cells and of its
+  // occupied evidence (Σ m̃(o)).
+  double min_overlap = 0.2;
+  double max_conflict = 0.3;  // structure conflict above which no pose explains the overlap
+  // The best pose's score must be at most this times that of the best pose that is distinct from
+  // it (farther than distinct_distance or turned more than distinct_angle).
+  double ambiguity_ratio = 0.7;
+  double distinct_distance = 1.0;        // m
+  double distinct_angle = 0.1745329252;  // rad (10°)
+  bool icp = true;                       // refine with the scan matcher (ScanMatcher::refine)
+  ScanMatcherConfig matcher;             // that refinement's settings
+
+  bool isValid(std::string* why) const;
+};
+
+struct AlignmentResult {
+  Pose2 pose;                    // the moving map's pose in the reference map's frame
+  double conflict = 0.0;         // structure conflict there, on the maps' own cells
+  double score = 0.0;            // its score (ranks the poses)
+  double mean_conflict = 0.0;    // mean K over the overlap there (no tolerance: what fusing creates)
+  size_t overlap_cells = 0;      // cells of the moving map that land on observed reference cells
+  double alternative_score = -1.0;  // score of the best distinct pose (-1: none)
+  Pose2 alternative_pose;           // and where it is
+  size_t yaws_searched = 0;      // yaws of the exhaustive search
+  double search_resolution = 0;  // m, its pooled cell
+};
+
+// The pose of `moving` in `reference`'s frame. False (and a one-line `why` with the numbers) when
+// the maps' resolutions differ, a map has no observed cell, no pose overlaps them enough, or the
+// best pose's conflict is above max_conflict or not clearly below the best distinct alternative's;
+// `result` then holds what was found.
+bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& moving,
+               const AlignmentConfig& config, AlignmentResult* result, std::string* why);
+
+}  // namespace fusion
+}  // namespace evidential_slam

@@ -1,0 +1,111 @@
+// Tests of map alignment (core/fusion/alignment.h) on maps painted from synthetic worlds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "evidential_slam/core/fusion/alignment.h"
+#include "synthetic_world.h"
+
+namespace evidential_slam {
+namespace fusion {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRes = 0.05;
+
+// Robot A maps the office's west part from the world origin; robot B its east part, its map's
+// frame at `b_in_world`. B's pose in A's frame is then b_in_world.
+EvidentialGridMap mapA() {
+  return synthetic::paint(synthetic::office(), Pose2(), {7.0, 7.0}, 9.0, kRes, 1);
+}
+EvidentialGridMap mapB(const Pose2& b_in_world) {
+  return synthetic::paint(synthetic::office(), b_in_world, {13.0, 7.0}, 9.0, kRes, 2);
+}
+
+void expectRecovered(const Pose2& truth) {
+  const EvidentialGridMap a = mapA(), b = mapB(truth);
+  AlignmentResult result;
+  std::string why;
+  ASSERT_TRUE(alignMaps(a, b, AlignmentConfig{}, &result, &why)) << why;
+  EXPECT_NEAR(result.pose.x, truth.x, kRes);
+  EXPECT_NEAR(result.pose.y, truth.y, kRes);
+  EXPECT_NEAR(normalizeAngle(result.pose.theta - truth.theta), 0.0, kPi / 180.0);
+  EXPECT_LT(result.conflict, 0.1);
+  EXPECT_GT(result.overlap_cells, 10000u);
+}
+
+// Recovered within a cell and 1°, whatever the turn.
+TEST(AlignmentTest, RecoversAKnownPose) { expectRecovered(Pose2(12.3, -4.1, 2.2)); }
+TEST(AlignmentTest, RecoversAKnownPoseTurnedBackwards) { expectRecovered(Pose2(-3.0, 5.5, -2.9)); }
+TEST(AlignmentTest, RecoversTheIdentity) { expectRecovered(Pose2()); }
+
+// Two maps of different worlds: no pose explains their overlap.
+TEST(AlignmentTest, RefusesMapsWithNoCommonStructure) {
+  const EvidentialGridMap a = mapA();
+  const EvidentialGridMap b =
+      synthetic::paint(synthetic::clutter(5), Pose2(1.0, 2.0, 0.3), {8.0, 8.0}, 8.0, kRes, 3);
+  AlignmentResult result;
+  std::string why;
+  EXPECT_FALSE(alignMaps(a, b, AlignmentConfig{}, &result, &why));
+  EXPECT_TRUE(why.rfind("no pose explains the overlap", 0) == 0 ||
+              why.rfind("ambiguous alignment", 0) == 0)
+      << why;
+}
+
+// The same map of a mirror-symmetric room twice: two poses (turned by 180°) explain it equally.
+TEST(AlignmentTest, RefusesAnAmbiguousAlignment) {
+  synthetic::World room;
+  room.min = {0.0, 0.0};
+  room.max = {10.0, 6.0};
+  synthetic::addBox(&room, 0, 0, 10, 6);
+  room.walls.push_back({{5.0, 0.0}, {5.0, 2.0}});
+  room.walls.push_back({{5.0, 6.0}, {5.0, 4.0}});
+  const EvidentialGridMap a = synthetic::paint(room, Pose2(), {5.0, 3.0}, 20.0, kRes, 1);
+  const EvidentialGridMap b = synthetic::paint(room, Pose2(2.0, 1.0, 0.5), {5.0, 3.0}, 20.0, kRes, 2);
+  AlignmentResult result;
+  std::string why;
+  EXPECT_FALSE(alignMaps(a, b, AlignmentConfig{}, &result, &why));
+  EXPECT_EQ(why.rfind("ambiguous alignment", 0), 0u) << why;
+  EXPECT_GE(result.alternative_score, 0.0);
+}
+
+// A 10 m x 1 m strip and a 3 m x 3 m square: no pose puts all of the square on the strip.
+TEST(AlignmentTest, RefusesTooLittleOverlap) {
+  synthetic::World strip;
+  strip.min = {0.0, 0.0};
+  strip.max = {10.0, 1.0};
+  synthetic::addBox(&strip, 0, 0, 10, 1);
+  synthetic::World square;
+  square.min = {0.0, 0.0};
+  square.max = {3.0, 3.0};
+  synthetic::addBox(&square, 0, 0, 3, 3);
+  const EvidentialGridMap a = synthetic::paint(strip, Pose2(), {5.0, 0.5}, 20.0, kRes, 1);
+  const EvidentialGridMap b = synthetic::paint(square, Pose2(), {1.5, 1.5}, 20.0, kRes, 2);
+  AlignmentConfig config;
+  config.min_overlap = 0.9;
+  AlignmentResult result;
+  std::string why;
+  EXPECT_FALSE(alignMaps(a, b, config, &result, &why));
+  EXPECT_EQ(why,
+            "too little overlap: no pose puts 90 % of the smaller map's observed cells and "
+            "occupied evidence on the other map");
+}
+
+TEST(AlignmentTest, RefusesBadInput) {
+  const EvidentialGridMap a = mapA(), coarse(0.1), empty(kRes);
+  AlignmentResult result;
+  std::string why;
+  EXPECT_FALSE(alignMaps(a, coarse, AlignmentConfig{}, &result, &why));
+  EXPECT_EQ(why, "the maps' cells differ (0.05 m and 0.1 m): alignment needs one resolution");
+  EXPECT_FALSE(alignMaps(a, empty, AlignmentConfig{}, &result, &why));
+  EXPECT_EQ(why, "a map to align has no observed cell");
+  AlignmentConfig config;
+  config.ambiguity_ratio = 0.0;
+  EXPECT_FALSE(alignMaps(a, a, config, &result, &why));
+  EXPECT_EQ(why, "invalid alignment config: ambiguity_ratio must be in (0, 1]");
+}
+
+}  // namespace
+}  // namespace fusion
+}  // namespace evidential_slam
