@@ -339,21 +339,23 @@ struct Candidate {
   size_t overlap = 0;
 };
 
-bool distinct(const Pose2& a, const Pose2& b, const AlignmentConfig& config) {
-  return std::hypot(a.x - b.x, a.y - b.y) > config.distinct_distance ||
+// Farther than distinct_distance (plus `margin`) or turned more than distinct_angle.
+bool distinct(const Pose2& a, const Pose2& b, const AlignmentConfig& config, double margin = 0.0) {
+  return std::hypot(a.x - b.x, a.y - b.y) > config.distinct_distance + margin ||
          std::abs(normalizeAngle(a.theta - b.theta)) > config.distinct_angle;
 }
 
-// Keeps the best `count` candidates that are distinct from each other.
+// Keeps the best `count` candidates that are distinct from each other, positions `margin` more
+// apart than distinct_distance.
 std::vector<Candidate> bestDistinct(std::vector<Candidate> all, size_t count,
-                                    const AlignmentConfig& config) {
+                                    const AlignmentConfig& config, double margin = 0.0) {
   std::sort(all.begin(), all.end(),
             [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
   std::vector<Candidate> kept;
   for (const Candidate& c : all) {
     if (kept.size() >= count) break;
     bool far = true;
-    for (const Candidate& k : kept) far = far && distinct(c.pose, k.pose, config);
+    for (const Candidate& k : kept) far = far && distinct(c.pose, k.pose, config, margin);
     if (far) kept.push_back(c);
   }
   return kept;
@@ -676,8 +678,10 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
     const Pooled& b = level(&mov_levels, l);
     const Requirement req = requirement(a, b, config.min_overlap);
     for (Candidate& c : candidates) c = refineOnLevel(a, b, c, step, req);
-    // Past the first refinement the ranking is settled enough to carry only the best few on.
-    candidates = bestDistinct(candidates, kFineCandidates, config);
+    // Past the first refinement the ranking is settled enough to carry only the best few on; poses
+    // within the reach of the finer levels' windows (two cells of this level each, both ways) may
+    // still meet in one basin and count as one.
+    candidates = bestDistinct(candidates, kFineCandidates, config, 4.0 * a.cell);
   }
 
   // On the maps' own cells, after ICP when it lowers the conflict.

@@ -33,6 +33,8 @@ void expectRecovered(const Pose2& truth) {
   EXPECT_NEAR(normalizeAngle(result.pose.theta - truth.theta), 0.0, kPi / 180.0);
   EXPECT_LT(result.conflict, 0.1);
   EXPECT_GT(result.overlap_cells, 10000u);
+  // A distinct alternative was found and scored clearly worse.
+  EXPECT_GT(result.alternative_score, result.score / AlignmentConfig{}.ambiguity_ratio);
 }
 
 // Recovered within a cell and 1°, whatever the turn.
