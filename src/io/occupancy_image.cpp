@@ -16,7 +16,8 @@ bool OccupancyImageConfig::isValid(std::string* why) const {
   };
   if (!(resolution > 0.0)) return fail("resolution must be > 0");
   if (!std::isfinite(origin_x) || !std::isfinite(origin_y)) return fail("origin must be finite");
-  if (!(free_threshold >= 0.0 && free_threshold < occupied_threshold && occupied_threshold <= 1.0)) {
+  if (!(free_threshold >= 0.0 && free_threshold < occupied_threshold &&
+        occupied_threshold <= 1.0)) {
     return fail("thresholds must satisfy 0 <= free_threshold < occupied_threshold <= 1");
   }
   return true;
@@ -60,7 +61,8 @@ bool readOccupancyImage(const std::string& path, const OccupancyImageConfig& con
       fusion::CellClass c = fusion::CellClass::kUnknown;
       if (p >= config.occupied_threshold) c = fusion::CellClass::kOccupied;
       if (p <= config.free_threshold) c = fusion::CellClass::kFree;
-      r.cells[static_cast<size_t>(row) * static_cast<size_t>(r.width) + static_cast<size_t>(col)] = c;
+      const size_t k = static_cast<size_t>(row) * static_cast<size_t>(r.width);
+      r.cells[k + static_cast<size_t>(col)] = c;
     }
   }
   *raster = std::move(r);

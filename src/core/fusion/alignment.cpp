@@ -300,13 +300,17 @@ class Fft2 {
       std::copy(out_.begin(), out_.begin() + nx_, row);
     }
     for (int i = 0; i < nx_; ++i) {
-      for (int j = 0; j < ny_; ++j) col_[static_cast<size_t>(j)] = d[static_cast<size_t>(j) * nx_ + i];
+      for (int j = 0; j < ny_; ++j) {
+        col_[static_cast<size_t>(j)] = d[static_cast<size_t>(j) * nx_ + i];
+      }
       if (inv) {
         fft_.inv(out_.data(), col_.data(), ny_);
       } else {
         fft_.fwd(out_.data(), col_.data(), ny_);
       }
-      for (int j = 0; j < ny_; ++j) d[static_cast<size_t>(j) * nx_ + i] = out_[static_cast<size_t>(j)];
+      for (int j = 0; j < ny_; ++j) {
+        d[static_cast<size_t>(j) * nx_ + i] = out_[static_cast<size_t>(j)];
+      }
     }
   }
 
@@ -369,7 +373,8 @@ struct Requirement {
 };
 
 Requirement requirement(const Pooled& a, const Pooled& b, double share) {
-  return {share * std::min(a.observed, b.observed), share * std::min(a.occupied_sum, b.occupied_sum)};
+  return {share * static_cast<double>(std::min(a.observed, b.observed)),
+          share * std::min(a.occupied_sum, b.occupied_sum)};
 }
 
 // The exhaustive search on one pooled level: every `yaw_step`, every translation by whole pooled
@@ -437,7 +442,8 @@ std::vector<Candidate> exhaustiveSearch(const Pooled& ref, const Pooled& moving_
     fft.forward(&mov_obs);
     // corr(t) = Σ_x f(x) g(x + t) ↔ conj(F) G. Conflict and structure as one complex inverse.
     for (size_t k = 0; k < n; ++k) {
-      const Complex conflict = std::conj(mov_occ[k]) * ref_fre[k] + std::conj(mov_fre[k]) * ref_occ[k];
+      const Complex conflict =
+          std::conj(mov_occ[k]) * ref_fre[k] + std::conj(mov_fre[k]) * ref_occ[k];
       const Complex structure =
           std::conj(mov_occ[k]) * ref_obs[k] + std::conj(mov_obs[k]) * ref_occ[k];
       corr_cs[k] = conflict + Complex(0.0, 1.0) * structure;
@@ -453,7 +459,8 @@ std::vector<Candidate> exhaustiveSearch(const Pooled& ref, const Pooled& moving_
     for (int j = 0; j < th; ++j) {
       for (int i = 0; i < tw; ++i) {
         const int tx = tx0 + i, ty = ty0 + j;
-        const size_t d = static_cast<size_t>((ty + ny) % ny) * nx + static_cast<size_t>((tx + nx) % nx);
+        const size_t d =
+            static_cast<size_t>((ty + ny) % ny) * nx + static_cast<size_t>((tx + nx) % nx);
         Tally t;
         t.conflict = std::max(0.0, corr_cs[d].real());
         t.structure = std::max(0.0, corr_cs[d].imag());

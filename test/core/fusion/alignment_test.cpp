@@ -64,7 +64,8 @@ TEST(AlignmentTest, RefusesAnAmbiguousAlignment) {
   room.walls.push_back({{5.0, 0.0}, {5.0, 2.0}});
   room.walls.push_back({{5.0, 6.0}, {5.0, 4.0}});
   const EvidentialGridMap a = synthetic::paint(room, Pose2(), {5.0, 3.0}, 20.0, kRes, 1);
-  const EvidentialGridMap b = synthetic::paint(room, Pose2(2.0, 1.0, 0.5), {5.0, 3.0}, 20.0, kRes, 2);
+  const EvidentialGridMap b =
+      synthetic::paint(room, Pose2(2.0, 1.0, 0.5), {5.0, 3.0}, 20.0, kRes, 2);
   AlignmentResult result;
   std::string why;
   EXPECT_FALSE(alignMaps(a, b, AlignmentConfig{}, &result, &why));

@@ -118,7 +118,8 @@ TEST(MapFusionTest, APoseMovesTheMapIntoTheFirstMapsFrame) {
   set(&b, 2, 0, 0.7f, 0.1f, 0.25f);
   EvidentialGridMap out;
   FusionReport report;
-  ASSERT_TRUE(fuse({{&a, Pose2()}, {&b, Pose2(1.0, 0.5, kPi / 2)}}, Rule::kCautious, &out, &report));
+  ASSERT_TRUE(
+      fuse({{&a, Pose2()}, {&b, Pose2(1.0, 0.5, kPi / 2)}}, Rule::kCautious, &out, &report));
   EXPECT_EQ(out.cell(9, 7), b.cell(2, 0));
   EXPECT_EQ(out.cell(0, 0), a.cell(0, 0));
   EXPECT_EQ(report.fused_cells, 2u);

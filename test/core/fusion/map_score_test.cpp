@@ -114,7 +114,8 @@ TEST(MapScoreTest, RefusesBadInput) {
   const EvidentialGridMap map(0.05);
   MapScore score;
   std::string why;
-  EXPECT_FALSE(scoreMap(map, Pose2(), raster(0.1, 2, 2, {O, O, O}), ClassifyConfig{}, &score, &why));
+  EXPECT_FALSE(
+      scoreMap(map, Pose2(), raster(0.1, 2, 2, {O, O, O}), ClassifyConfig{}, &score, &why));
   EXPECT_EQ(why, "ground truth: 3 cells for 2 x 2");
   EXPECT_FALSE(scoreMap(map, Pose2(), raster(0.0, 1, 1, {O}), ClassifyConfig{}, &score, &why));
   EXPECT_EQ(why, "ground truth: resolution must be > 0");

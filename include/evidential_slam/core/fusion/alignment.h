@@ -53,7 +53,7 @@ struct AlignmentResult {
   Pose2 pose;                    // the moving map's pose in the reference map's frame
   double conflict = 0.0;         // structure conflict there, on the maps' own cells
   double score = 0.0;            // its score (ranks the poses)
-  double mean_conflict = 0.0;    // mean K over the overlap there (no tolerance: what fusing creates)
+  double mean_conflict = 0.0;    // mean K over the overlap there, without the tolerance
   size_t overlap_cells = 0;      // cells of the moving map that land on observed reference cells
   double alternative_score = -1.0;  // score of the best distinct pose (-1: none)
   Pose2 alternative_pose;           // and where it is

@@ -43,8 +43,9 @@ struct FusionReport {
 // from every source the cell under its centre (nearest neighbour, see map_fusion.cpp); a source
 // that never observed that cell is no source for it, so a cell only one map observed keeps that
 // map's belief (discounted, and for Dempster's and Yager's rules with its conflict handled by the
-// rule); a source with discount 1 is no source anywhere. False (and a one-line `why`) for no sources, a missing map, resolutions that differ, a
-// discount outside [0, 1], a non-finite pose or an invalid config.
+// rule); a source with discount 1 is no source anywhere. False (and a one-line `why`) for no
+// sources, a missing map, resolutions that differ, a discount outside [0, 1], a non-finite pose or
+// an invalid config.
 bool fuseMaps(const std::vector<FusionSource>& sources, const FusionConfig& config,
               EvidentialGridMap* fused, FusionReport* report, std::string* why);
 

@@ -49,8 +49,12 @@ struct MapScore {
   size_t correct = 0;     // of those, it says what the truth says
   // [truth][map] cell counts, indexed by CellClass.
   std::array<std::array<size_t, 3>, 3> confusion{};
-  double accuracy() const { return classified > 0 ? static_cast<double>(correct) / classified : 0.0; }
-  double coverage() const { return known > 0 ? static_cast<double>(classified) / known : 0.0; }
+  double accuracy() const {
+    return classified > 0 ? static_cast<double>(correct) / static_cast<double>(classified) : 0.0;
+  }
+  double coverage() const {
+    return known > 0 ? static_cast<double>(classified) / static_cast<double>(known) : 0.0;
+  }
 };
 
 // Scores `map`, placed in the truth's frame by `map_in_truth`, on the truth's cells. A truth cell
