@@ -184,11 +184,11 @@ Pooled poolUp(const Pooled& fine) {
   return p;
 }
 
-// An observed pooled cell of the moving map: its centre in that map's frame and its values.
+// An observed pooled cell of the moving map: its centre in that map's frame and its sums (the
+// exhaustive search pools them again into the rotated grid).
 struct Point {
   double x, y;
-  float occ, fre, fre_eroded;  // pooled values
-  float occ_sum, fre_sum;      // and the sums they come from
+  float occ_sum, fre_sum;
   uint32_t count;
 };
 
@@ -199,8 +199,8 @@ std::vector<Point> pointsOf(const Pooled& p) {
     for (int i = 0; i < p.w; ++i) {
       const size_t k = p.index(i, j);
       if (p.obs[k] == 0) continue;
-      pts.push_back(Point{(p.x0 + i + 0.5) * p.cell, (p.y0 + j + 0.5) * p.cell, p.occ[k], p.fre[k],
-                          p.fre_eroded[k], p.occ_sum[k], p.fre_sum[k], p.count[k]});
+      pts.push_back(Point{(p.x0 + i + 0.5) * p.cell, (p.y0 + j + 0.5) * p.cell, p.occ_sum[k],
+                          p.fre_sum[k], p.count[k]});
     }
   }
   return pts;
@@ -338,7 +338,7 @@ void splitSpectra(const std::vector<Complex>& z, int nx, int ny, std::vector<Com
 
 struct Candidate {
   Pose2 pose;
-  double score = kInf;  // Tally::score
+  double score = kInf;     // Tally::score
   double conflict = kInf;  // Tally::rate
   size_t overlap = 0;
 };
