@@ -37,7 +37,6 @@ const char* const kNodeParameterNames[] = {ES_NODE_PARAMETERS(ES_NODE_PARAMETER_
 
 std::string valueText(int v) { return std::to_string(v); }
 std::string valueText(bool v) { return v ? "true" : "false"; }
-std::string valueText(const std::string& v) { return v; }
 // The shortest text that reads back as the same double.
 std::string valueText(double v) {
   char text[40];
