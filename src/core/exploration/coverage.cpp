@@ -1,5 +1,8 @@
 #include "evidential_slam/core/exploration/coverage.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace evidential_slam {
 namespace exploration {
 
@@ -24,6 +27,25 @@ std::vector<uint8_t> reachableFreeCells(const OccupancyImage& truth, const Eigen
     }
   }
   return reachable;
+}
+
+double distanceToObstacle(const OccupancyImage& truth, const Eigen::Vector2d& p,
+                          double max_distance) {
+  const GridGeometry& g = truth.geometry;
+  int c0 = 0, r0 = 0, c1 = 0, r1 = 0;
+  g.cellOf(p.x() - max_distance, p.y() - max_distance, &c0, &r0);
+  g.cellOf(p.x() + max_distance, p.y() + max_distance, &c1, &r1);
+  double nearest = max_distance;
+  for (int r = std::max(r0, 0); r <= std::min(r1, g.height - 1); ++r) {
+    for (int c = std::max(c0, 0); c <= std::min(c1, g.width - 1); ++c) {
+      if (!truth.occupied[g.index(c, r)]) continue;
+      const double x0 = g.origin_x + c * g.resolution, y0 = g.origin_y + r * g.resolution;
+      const double dx = std::max({x0 - p.x(), 0.0, p.x() - (x0 + g.resolution)});
+      const double dy = std::max({y0 - p.y(), 0.0, p.y() - (y0 + g.resolution)});
+      nearest = std::min(nearest, std::hypot(dx, dy));
+    }
+  }
+  return nearest;
 }
 
 double knownFraction(const OccupancyImage& truth, const std::vector<uint8_t>& reachable,

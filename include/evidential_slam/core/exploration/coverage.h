@@ -29,6 +29,11 @@ struct OccupancyImage {
 // an obstacle or outside the image).
 std::vector<uint8_t> reachableFreeCells(const OccupancyImage& truth, const Eigen::Vector2d& start);
 
+// Distance (m) from `p` to the nearest obstacle cell's nearest point, capped at `max_distance`
+// (obstacles further away are not looked for); 0 inside one.
+double distanceToObstacle(const OccupancyImage& truth, const Eigen::Vector2d& p,
+                          double max_distance);
+
 // Share of the `reachable` cells (reachableFreeCells) whose centre, taken into the map's frame
 // (`map_in_truth`: the map frame's pose in the image's frame), falls on a map cell with
 // NS < max_ns and BetP(o) < 0.5. 0 when nothing is reachable.
