@@ -96,7 +96,7 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     const Pose2 pose = engine.bestPose();
     std::shared_ptr<const LayerRaster> fresh;
     const bool stopping = t >= config.max_time;
-    if (explorer.wantsMap(scan.stamp) || t >= next_sample || stopping) {
+    if (explorer.wantsMap(scan.stamp) || t >= next_sample) {
       fresh = std::make_shared<const LayerRaster>(
           extractLayers(engine.bestMap(), config.map_margin_cells));
       raster = fresh;
@@ -105,12 +105,16 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     r.explorer_time_s += secondsSince(tick);
     sim.setVelocityCommand(cmd.linear, cmd.angular);
 
-    if (t >= next_sample || explorer.done() || stopping) {
+    if (explorer.done() || stopping || (progress && !progress(t, r))) break;
+    if (t >= next_sample) {
       sample(t);
       next_sample += config.coverage_period;
     }
-    if (explorer.done() || stopping || (progress && !progress(t, r))) break;
   }
+  // The last sample on the map as it is at the end.
+  raster = std::make_shared<const LayerRaster>(
+      extractLayers(engine.bestMap(), config.map_margin_cells));
+  sample(t);
 
   r.sim_time_s = t;
   r.collisions = sim.collisions();
@@ -118,6 +122,8 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
   r.done = explorer.done();
   r.stop_reason = r.done ? explorer.stopMessage() : "max_time reached";
   r.explorer_stats = explorer.stats();
+  r.final_map = raster;
+  r.start_pose = start;
   const Pose2 truth_in_map = start.between(sim.truePose());
   r.final_position_error_m = (engine.bestPose().translation() - truth_in_map.translation()).norm();
   r.wall_time_s = secondsSince(wall_start);

@@ -39,15 +39,18 @@ void exploreAndCheck(exploration::Strategy strategy) {
   ASSERT_TRUE(io::runExploration(c, &r, &error)) << error;
   std::printf(
       "%s: coverage %.4f after %.1f m in %.1f s simulated (%.1f s wall: SLAM %.1f s, explorer "
-      "%.1f s), %llu collision(s), to 90 %%: %.0f s, pose error %.3f m; %s\n",
+      "%.1f s), %llu collision(s), closest to a wall %.2f m, to 90 %%: %.0f s, pose error "
+      "%.3f m; %s\n",
       exploration::strategyName(strategy), r.final_coverage, r.distance_m, r.sim_time_s,
       r.wall_time_s, r.slam_time_s, r.explorer_time_s,
-      static_cast<unsigned long long>(r.collisions), r.time_to_90_s, r.final_position_error_m,
-      r.stop_reason.c_str());
+      static_cast<unsigned long long>(r.collisions), r.min_wall_distance_m, r.time_to_90_s,
+      r.final_position_error_m, r.stop_reason.c_str());
   EXPECT_TRUE(r.done) << r.stop_reason;
   EXPECT_LT(r.sim_time_s, 300.0);
   EXPECT_GE(r.final_coverage, 0.95);
   EXPECT_EQ(r.collisions, 0u);
+  EXPECT_GT(r.min_wall_distance_m, 0.2);  // the simulator's robot_radius
+  ASSERT_TRUE(r.final_map);
   EXPECT_GT(r.reachable_cells, 40000u);  // most of the 16 m x 12 m at 0.05 m
   EXPECT_LT(r.final_position_error_m, 0.3);
   ASSERT_GE(r.coverage.size(), 2u);

@@ -8,11 +8,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/exploration/explorer.h"
+#include "evidential_slam/core/layers.h"
 #include "evidential_slam/core/pose2.h"
 #include "evidential_slam/io/gridmap_simulator.h"
 
@@ -55,6 +57,8 @@ struct ExplorationRunResult {
   double slam_time_s = 0.0;     // inside processScan
   double explorer_time_s = 0.0;  // raster extraction and Explorer::update
   exploration::ExplorerStats explorer_stats;
+  std::shared_ptr<const LayerRaster> final_map;  // the best map at the end, as a raster
+  Pose2 start_pose;                              // the robot's true start (the map frame)
 };
 
 // Called after every scan with the simulated time (s since the first scan); return false to stop.
