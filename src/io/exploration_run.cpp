@@ -63,7 +63,8 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
   const Clock::time_point wall_start = Clock::now();
   const Pose2 start = sim.truePose();  // the SLAM's map frame is the robot's start pose
   const exploration::OccupancyImage& truth = sim.obstacles();
-  const std::vector<uint8_t> reachable = exploration::reachableFreeCells(truth, start.translation());
+  const std::vector<uint8_t> reachable =
+      exploration::reachableFreeCells(truth, start.translation());
   for (uint8_t cell : reachable) r.reachable_cells += cell;
   r.min_wall_distance_m = 1.0;
 

@@ -55,10 +55,19 @@ TEST(Explorer, StopsWhenNoFrontierIsLeft) {
 
 TEST(Explorer, WaitsForAMap) {
   Explorer explorer{ExplorerConfig()};
-  const VelocityCommand cmd = explorer.update(0.0, Pose2());
+  VelocityCommand cmd = explorer.update(0.0, Pose2());
   EXPECT_EQ(cmd.linear, 0.0);
   EXPECT_FALSE(explorer.done());
   EXPECT_TRUE(explorer.wantsMap(0.0));
+  // Nothing observed yet (an empty grid's raster, or one of vacuous cells): still waiting, not
+  // "no frontier left".
+  cmd = explorer.update(0.1, Pose2(), share(blankRaster(0, 0, 0.05)));
+  EXPECT_FALSE(explorer.done());
+  cmd = explorer.update(0.2, Pose2(), share(blankRaster(20, 20, 0.05)));
+  EXPECT_FALSE(explorer.done());
+  EXPECT_EQ(cmd.linear, 0.0);
+  EXPECT_TRUE(explorer.wantsMap(0.3));
+  EXPECT_EQ(explorer.stats().replans, 0u);
 }
 
 TEST(Explorer, DrivesToTheNearerFrontierAndReplansAtItsRate) {

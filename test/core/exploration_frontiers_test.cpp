@@ -164,7 +164,8 @@ TEST(Frontiers, HallPocketAndDoorClustersAndScoresByHand) {
   EXPECT_NEAR(pocket.min_distance, 1.4, 1e-12);  // to (2.95, 2.05)
   EXPECT_NEAR(door.min_distance, 1.9, 1e-12);    // to (1.55, 3.95)
 
-  // Goals: the reachable cell nearest the centroid. No wall cost (inflation_radius = robot_radius): a straight path costs its length.
+  // Goals: the reachable cell nearest the centroid. No wall cost (inflation_radius =
+  // robot_radius): a straight path costs its length.
   PlannerConfig planner;
   planner.inflation_radius = planner.robot_radius;
   const CostGrid grid(g, classes, planner, &robot);

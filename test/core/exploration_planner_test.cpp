@@ -45,8 +45,8 @@ TEST(CostGrid, InflationAndWallCostByHand) {
   EXPECT_NEAR(grid.clearance(g.index(13, 10)), 0.25, 1e-6);
   EXPECT_NEAR(grid.cost(g.index(13, 10)), 1.0 + 4.0 * std::exp(-0.5), 1e-5);
   EXPECT_NEAR(grid.clearance(g.index(12, 12)), (std::sqrt(8.0) - 0.5) * 0.1, 1e-6);
-  EXPECT_NEAR(grid.cost(g.index(12, 12)), 1.0 + 4.0 * std::exp(-10.0 * ((std::sqrt(8.0) - 0.5) * 0.1 - 0.2)),
-              1e-5);
+  const double diagonal = (std::sqrt(8.0) - 0.5) * 0.1;
+  EXPECT_NEAR(grid.cost(g.index(12, 12)), 1.0 + 4.0 * std::exp(-10.0 * (diagonal - 0.2)), 1e-5);
   EXPECT_NEAR(grid.cost(g.index(15, 10)), 1.0 + 4.0 * std::exp(-2.5), 1e-5);  // clearance 0.45
   EXPECT_EQ(grid.cost(g.index(16, 10)), 1.0f);                                  // 0.55: none
   EXPECT_EQ(grid.cost(g.index(0, 0)), 1.0f);

@@ -49,7 +49,11 @@ void Explorer::addToBlacklist(const Eigen::Vector2d& position, double time,
 
 VelocityCommand Explorer::update(double time, const Pose2& pose,
                                  std::shared_ptr<const LayerRaster> map) {
-  if (map) map_ = std::move(map);
+  // A map without a single observed cell is no map yet (nothing integrated): it would read as
+  // "no frontier left".
+  if (map && std::find(map->observed.begin(), map->observed.end(), 1) != map->observed.end()) {
+    map_ = std::move(map);
+  }
   if (done() || !map_) return {};
   if (!has_goal_ || time >= next_replan_) replan(time, pose);
   if (done()) return {};

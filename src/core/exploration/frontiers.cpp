@@ -215,7 +215,8 @@ void scoreFrontiers(const LayerRaster& raster, const std::vector<CellClass>& cla
       f.utility = f.gain * discount;
     } else {
       const double cells = f.size / res;
-      f.utility = -(config.potential_scale * f.min_distance * res - config.gain_scale * cells * res);
+      f.utility =
+          -(config.potential_scale * f.min_distance * res - config.gain_scale * cells * res);
     }
   }
 }

@@ -45,7 +45,9 @@ struct GridGeometry {
 
   static GridGeometry of(const LayerRaster& raster);
   int size() const { return width * height; }
-  bool inside(int col, int row) const { return col >= 0 && row >= 0 && col < width && row < height; }
+  bool inside(int col, int row) const {
+    return col >= 0 && row >= 0 && col < width && row < height;
+  }
   int index(int col, int row) const { return row * width + col; }
   int col(int index) const { return index % width; }
   int row(int index) const { return index / width; }

@@ -66,9 +66,9 @@ class Explorer {
   explicit Explorer(const ExplorerConfig& config);
 
   // Call at the control rate with the time (s), the robot's pose in the map's frame and, when a
-  // new one is at hand, the latest map (nullptr: keep the last). Replans every
-  // 1 / planner_frequency s, and at once when there is no goal or the goal was reached. Returns
-  // the velocity command; (0, 0) without a map and once done.
+  // new one is at hand, the latest map (nullptr: keep the last; a map with no observed cell is
+  // ignored). Replans every 1 / planner_frequency s, and at once when there is no goal or the
+  // goal was reached. Returns the velocity command; (0, 0) without a map and once done.
   VelocityCommand update(double time, const Pose2& pose,
                          std::shared_ptr<const LayerRaster> map = nullptr);
   // True when the next update() would replan: a caller that extracts rasters on demand gives a
