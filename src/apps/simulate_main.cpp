@@ -37,6 +37,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "warning: no scan saw the moving object (the run spans %.2f-%.2f s)\n",
                  summary.first_stamp, summary.last_stamp);
   }
+  if (summary.collisions > 0) {
+    std::fprintf(stderr,
+                 "warning: the robot (radius %.2f m) ran into a wall %llu time(s)%s; the route "
+                 "must keep clear of walls\n",
+                 c.robot_radius, static_cast<unsigned long long>(summary.collisions),
+                 summary.stuck ? " and the route ended early, held by a wall for 5 s" : "");
+  }
   if (!options.quiet) {
     std::printf(
         "wrote %llu scans (%.2f-%.2f s, %.1f m driven) to %s and %s\n"

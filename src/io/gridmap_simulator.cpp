@@ -32,6 +32,12 @@ namespace {
 // in place while the next waypoint is more than kDriveMaxHeadingError off its heading.
 constexpr double kTurnGain = 2.0;              // 1/s
 constexpr double kDriveMaxHeadingError = 0.3;  // rad (~17 degrees)
+// Collisions: a robot stopped by a wall stays in contact until it is further than this from
+// every wall (one that backs off further and runs into it again collides again); a waypoint
+// route held by a wall this long ends (it would never arrive).
+constexpr double kContactMargin = 0.01;  // m
+constexpr double kStuckTimeout = 5.0;    // s
+constexpr int kContactBisections = 20;   // halvings of a blocked step to find the contact
 
 bool finite(double v) { return std::isfinite(v); }
 
@@ -113,6 +119,7 @@ bool GridmapSimulatorConfig::isValid(std::string* why) const {
   if (!(linear_speed > 0.0)) return fail("linear_speed must be > 0");
   if (!(angular_speed > 0.0)) return fail("angular_speed must be > 0");
   if (!(waypoint_tolerance > 0.0)) return fail("waypoint_tolerance must be > 0");
+  if (!(robot_radius >= 0.0)) return fail("robot_radius must be >= 0 (m)");
   if (duration < 0.0) return fail("duration must be >= 0 (0 = until the last waypoint)");
   if (!(start_time > 0.0)) return fail("start_time must be > 0 (time 0 means 'unset' in ROS)");
   if (!(scan_period > 0.0)) return fail("scan_period must be > 0");
@@ -164,6 +171,8 @@ std::vector<GridmapSimulatorField> gridmapSimulatorFields(GridmapSimulatorConfig
       {"linear_speed", &c->linear_speed, "m/s, forward speed limit"},
       {"angular_speed", &c->angular_speed, "rad/s, turn rate limit"},
       {"waypoint_tolerance", &c->waypoint_tolerance, "m, a waypoint closer than this is reached"},
+      {"robot_radius", &c->robot_radius,
+       "m, the robot's disc: motion into a wall stops at contact and counts as a collision"},
       {"duration", &c->duration, "s of simulation at most; 0 = until the last waypoint"},
       {"start_time", &c->start_time, "s, simulation clock at the first scan (> 0)"},
       {"scan_period", &c->scan_period, "s between scans and odometry increments"},
@@ -272,6 +281,57 @@ struct GridmapSimulator::Impl {
   bool finished = false;
   bool kidnap_done = false;
 
+  exploration::OccupancyImage obstacles;
+  uint64_t collisions = 0;
+  bool in_contact = false;
+  double blocked_for = 0.0;  // s the robot has been held by a wall without a break
+  bool stuck = false;
+  Eigen::Vector2d last_collision = Eigen::Vector2d::Zero();
+  double last_collision_time = 0.0;
+
+  // The obstacle cells, from the loaded grid (its cells are the image's pixels).
+  void buildObstacles() {
+    exploration::GridGeometry& g = obstacles.geometry;
+    g.resolution = grid.getResolution();
+    g.origin_x = grid.getXMin();
+    g.origin_y = grid.getYMin();
+    g.width = static_cast<int>(grid.getSizeX());
+    g.height = static_cast<int>(grid.getSizeY());
+    obstacles.occupied.assign(static_cast<size_t>(g.size()), 0);
+    // getCell gives the probability of free space (1 = white); a ray stops at a cell at or below
+    // 1 - occupied_threshold (castScan), and so does the robot.
+    const float threshold_free = static_cast<float>(1.0 - config.occupied_threshold);
+    for (int r = 0; r < g.height; ++r) {
+      for (int c = 0; c < g.width; ++c) {
+        obstacles.occupied[g.index(c, r)] = grid.getCell(c, r) <= threshold_free ? 1 : 0;
+      }
+    }
+  }
+
+  // True when a disc of `radius` at `p` overlaps an obstacle cell (touching is not overlapping);
+  // a point (radius 0) collides inside one. Outside the map there is nothing to hit.
+  bool discHitsObstacle(const Eigen::Vector2d& p, double radius) const {
+    const exploration::GridGeometry& g = obstacles.geometry;
+    int c0 = 0, r0 = 0, c1 = 0, r1 = 0;
+    g.cellOf(p.x() - radius, p.y() - radius, &c0, &r0);
+    g.cellOf(p.x() + radius, p.y() + radius, &c1, &r1);
+    for (int r = std::max(r0, 0); r <= std::min(r1, g.height - 1); ++r) {
+      for (int c = std::max(c0, 0); c <= std::min(c1, g.width - 1); ++c) {
+        if (!obstacles.occupied[g.index(c, r)]) continue;
+        const double x0 = g.origin_x + c * g.resolution, y0 = g.origin_y + r * g.resolution;
+        const double dx = std::max({x0 - p.x(), 0.0, p.x() - (x0 + g.resolution)});
+        const double dy = std::max({y0 - p.y(), 0.0, p.y() - (y0 + g.resolution)});
+        if (radius == 0.0 ? dx == 0.0 && dy == 0.0 : dx * dx + dy * dy < radius * radius) {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+  bool collides(const Pose2& pose) const {
+    return discHitsObstacle(pose.translation(), config.robot_radius);
+  }
+
   bool loadMap(std::string* error) {
     const std::string& path = config.map;
     std::error_code ec;
@@ -323,6 +383,7 @@ struct GridmapSimulator::Impl {
       return false;
     }
     if (!loadMap(error)) return false;
+    buildObstacles();
     if (!config.waypoints.empty()) {
       if (!readWaypoints(config.waypoints, &waypoints, error)) return false;
       const Eigen::Vector2d d = waypoints[1] - waypoints[0];
@@ -354,6 +415,39 @@ struct GridmapSimulator::Impl {
     route_done = true;
   }
 
+  // The motion (robot frame) of driving (v, w) for dt from `truth`, stopped at contact when the
+  // disc would run into an obstacle: the largest share of the step that stays clear, then the
+  // rest of the step's turn in place (a disc turning about its centre hits nothing). A disc that
+  // already overlaps an obstacle (after a kidnap into one) moves freely until it is clear.
+  Pose2 motionWithCollisions(double v, double w, double dt, double now) {
+    const Pose2 free_motion = unicycleIncrement(v, w, dt);
+    const Pose2 free_end = truth.compose(free_motion);
+    if (!collides(free_end) || collides(truth)) {
+      blocked_for = 0.0;
+      if (in_contact) {
+        in_contact = discHitsObstacle(free_end.translation(), config.robot_radius + kContactMargin);
+      }
+      return free_motion;
+    }
+    double clear = 0.0, blocked = 1.0;
+    for (int k = 0; k < kContactBisections; ++k) {
+      const double mid = 0.5 * (clear + blocked);
+      if (collides(truth.compose(unicycleIncrement(v, w, mid * dt)))) {
+        blocked = mid;
+      } else {
+        clear = mid;
+      }
+    }
+    if (!in_contact) {
+      ++collisions;
+      last_collision = truth.translation();
+      last_collision_time = now;
+    }
+    in_contact = true;
+    blocked_for += dt;
+    return unicycleIncrement(v, w, clear * dt).compose(Pose2(0.0, 0.0, (1.0 - clear) * w * dt));
+  }
+
   void drive(double duration) {
     const int substeps =
         std::max(1, static_cast<int>(std::ceil(duration / config.physics_period - 1e-9)));
@@ -361,9 +455,13 @@ struct GridmapSimulator::Impl {
     for (int i = 0; i < substeps; ++i) {
       double v = command_v, w = command_w;
       if (!waypoints.empty()) waypointCommand(dt, &v, &w);
-      const Pose2 increment = unicycleIncrement(v, w, dt);
+      const Pose2 increment = motionWithCollisions(v, w, dt, clock + (i + 1) * dt);
       truth = truth.compose(increment);
       motion_since_scan = motion_since_scan.compose(increment);
+      if (!waypoints.empty() && blocked_for >= kStuckTimeout - 1e-9) {
+        stuck = true;
+        route_done = true;
+      }
     }
   }
 
@@ -459,6 +557,8 @@ struct GridmapSimulator::Impl {
     odometry = odometry.compose(out->odometry_increment);
     out->odometry = odometry;
     out->true_pose = truth;
+    out->collisions = collisions;
+    out->in_contact = in_contact;
     out->scan = castScan(clock, &out->moving_object);
     ++scans;
     return true;
@@ -486,6 +586,13 @@ void GridmapSimulator::setVelocityCommand(double linear, double angular) {
 bool GridmapSimulator::step(SimulatedScan* out) { return impl_->step(out); }
 bool GridmapSimulator::followsWaypoints() const { return !impl_->waypoints.empty(); }
 bool GridmapSimulator::finished() const { return impl_->finished; }
+uint64_t GridmapSimulator::collisions() const { return impl_->collisions; }
+Eigen::Vector2d GridmapSimulator::lastCollisionPosition() const { return impl_->last_collision; }
+double GridmapSimulator::lastCollisionTime() const { return impl_->last_collision_time; }
+bool GridmapSimulator::stuck() const { return impl_->stuck; }
+const exploration::OccupancyImage& GridmapSimulator::obstacles() const {
+  return impl_->obstacles;
+}
 double GridmapSimulator::now() const { return impl_->clock; }
 Pose2 GridmapSimulator::truePose() const { return impl_->truth; }
 const Pose2& GridmapSimulator::laserPose() const { return impl_->laser_pose; }
@@ -643,6 +750,8 @@ bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& r
         (first_truth.compose(scan.odometry).translation() - scan.true_pose.translation()).norm();
   }
   if (!recorder.close(&why)) return fail(why);
+  s.collisions = simulator.collisions();
+  s.stuck = simulator.stuck();
   if (summary) *summary = s;
   return true;
 }

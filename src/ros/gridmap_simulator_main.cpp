@@ -6,7 +6,9 @@
 // SLAM's map frame starts at the first odometry pose, as with rawlog_player). The laser's mounting
 // is a static tf. The robot follows ~waypoints, or `cmd_vel` (geometry_msgs/Twist) when no
 // waypoint file is given. When the route ends (or ~duration passes) the latched `~done`
-// (std_msgs/Bool) turns true and the clock keeps running so timers downstream still fire.
+// (std_msgs/Bool) turns true and the clock keeps running so timers downstream still fire. The
+// robot is a disc of ~robot_radius: driving into a wall stops it at contact, and each collision
+// is logged and counted on the latched `~collisions` (std_msgs/UInt32).
 // Parameters: every GridmapSimulatorConfig field under its own name (docs/simulator.md).
 #include <algorithm>
 #include <cmath>
@@ -21,6 +23,7 @@
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Bool.h>
+#include <std_msgs/UInt32.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -98,6 +101,7 @@ class SimulatorNode {
     truth_path_pub_ = nh.advertise<nav_msgs::Path>("ground_truth", 1, true);
     truth_pose_pub_ = nh.advertise<geometry_msgs::PoseStamped>("ground_truth_pose", 10);
     done_pub_ = pnh.advertise<std_msgs::Bool>("done", 1, true);
+    collisions_pub_ = pnh.advertise<std_msgs::UInt32>("collisions", 1, true);
     if (c.waypoints.empty()) {
       cmd_vel_sub_ = nh.subscribe<geometry_msgs::Twist>(
           "cmd_vel", 10, [this](const geometry_msgs::Twist::ConstPtr& m) {
@@ -107,6 +111,7 @@ class SimulatorNode {
           });
     }
     publishDone(false);
+    publishCollisions(0);
   }
 
   // Runs until shutdown; returns the process exit code.
@@ -199,6 +204,12 @@ class SimulatorNode {
     done_pub_.publish(msg);
   }
 
+  void publishCollisions(uint64_t count) {
+    std_msgs::UInt32 msg;
+    msg.data = static_cast<uint32_t>(count);
+    collisions_pub_.publish(msg);
+  }
+
   void publish(const es::io::SimulatedScan& s) {
     const ros::Time stamp(s.stamp);
     sensor_msgs::LaserScan msg;
@@ -213,6 +224,16 @@ class SimulatorNode {
     scan_pub_.publish(msg);
     ++scans_;
     if (s.kidnapped) ROS_WARN("gridmap_simulator: kidnap at %.2f s", s.stamp);
+    if (s.collisions > collisions_) {
+      collisions_ = s.collisions;
+      const Eigen::Vector2d at = simulator_.lastCollisionPosition();
+      ROS_WARN(
+          "gridmap_simulator: collision %lu: the robot (radius %.2f m) ran into a wall at "
+          "(%.2f, %.2f) in the image's frame at %.2f s",
+          static_cast<unsigned long>(collisions_), simulator_.config().robot_radius, at.x(),
+          at.y(), simulator_.lastCollisionTime());
+      publishCollisions(collisions_);
+    }
 
     if (scans_ == 1) {
       // The map frame is the odometry frame at the first scan: truth ⊕ first_truth⁻¹ ⊕ odometry.
@@ -232,13 +253,19 @@ class SimulatorNode {
     finished_ = true;
     truth_path_pub_.publish(truth_path_);  // latched: the whole path
     publishDone(true);
-    ROS_INFO("gridmap_simulator: done after %lu scans at %.2f s (the clock keeps running)",
-             static_cast<unsigned long>(scans_), clock_);
+    if (simulator_.stuck()) {
+      ROS_WARN("gridmap_simulator: the route ends early: a wall has held the robot for 5 s");
+    }
+    ROS_INFO(
+        "gridmap_simulator: done after %lu scans at %.2f s, %lu collision(s) (the clock keeps "
+        "running)",
+        static_cast<unsigned long>(scans_), clock_, static_cast<unsigned long>(collisions_));
   }
 
   NodeParams params_;
   es::io::GridmapSimulator simulator_;
-  ros::Publisher scan_pub_, clock_pub_, truth_path_pub_, truth_pose_pub_, done_pub_;
+  ros::Publisher scan_pub_, clock_pub_, truth_path_pub_, truth_pose_pub_, done_pub_,
+      collisions_pub_;
   ros::Subscriber cmd_vel_sub_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
@@ -248,6 +275,7 @@ class SimulatorNode {
   double clock_ = 0.0;
   bool finished_ = false;
   uint64_t scans_ = 0;
+  uint64_t collisions_ = 0;
   es::Pose2 alignment_;
   nav_msgs::Path truth_path_;
 };

@@ -1,7 +1,7 @@
 // The grid-map simulator (io/gridmap_simulator.h) and its command line (io/simulate_args.h): laser
 // ranges against analytic distances in a synthetic room, odometry against the truth, the two
 // faults against an unfaulted run with the same seed, the rawlog read back through RawlogReader,
-// and clear one-line errors on bad input.
+// collisions of the robot's disc with the walls, and clear one-line errors on bad input.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -279,6 +279,104 @@ TEST(GridmapSimulator, MovingObjectReplacesExactlyTheBearingWindowDuringItsInter
   EXPECT_EQ(scans_with_object, 11u);  // 1.0, 1.1, ..., 2.0 s after the start
 }
 
+// Steps a loaded simulator with velocity command (v, w) for `seconds` of scans.
+void driveFor(GridmapSimulator* sim, double v, double w, double seconds) {
+  sim->setVelocityCommand(v, w);
+  SimulatedScan s;
+  const int scans = static_cast<int>(std::lround(seconds / sim->config().scan_period));
+  for (int k = 0; k < scans; ++k) ASSERT_TRUE(sim->step(&s));
+}
+
+TEST(GridmapSimulator, DrivingIntoAWallStopsAtContactAndCountsOneCollision) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);  // inner wall faces at x, y = ±4.8
+  c.start_x = 4.0;
+  c.robot_radius = 0.2;
+  GridmapSimulator sim(c);
+  std::string error;
+  ASSERT_TRUE(sim.load(&error)) << error;
+  SimulatedScan s;
+  ASSERT_TRUE(sim.step(&s));
+  EXPECT_EQ(s.collisions, 0u);
+  EXPECT_FALSE(s.in_contact);
+  // 0.5 m/s for 3 s would take it to x = 5.5: it stops with its disc on the wall, at 4.6.
+  driveFor(&sim, 0.5, 0.0, 3.0);
+  EXPECT_NEAR(sim.truePose().x, 4.6, 1e-4);
+  EXPECT_NEAR(sim.truePose().y, 0.0, 1e-9);
+  EXPECT_EQ(sim.collisions(), 1u);  // pushing on is one collision
+  EXPECT_NEAR(sim.lastCollisionPosition().x(), 4.6, 0.5 * 0.01 + 1e-9);  // within a 10 ms step
+  EXPECT_NEAR(sim.lastCollisionTime(), c.start_time + 1.2, 0.01 + 1e-9);
+  ASSERT_TRUE(sim.step(&s));
+  EXPECT_EQ(s.collisions, 1u);
+  EXPECT_TRUE(s.in_contact);
+  // The odometry (noise-free here) saw only the motion that happened.
+  EXPECT_NEAR(s.odometry.x, 0.6, 1e-4);
+  // Turning in place against the wall is free and no collision.
+  driveFor(&sim, 0.0, 0.8, 1.0);
+  EXPECT_NEAR(sim.truePose().theta, 0.8, 1e-9);
+  EXPECT_EQ(sim.collisions(), 1u);
+  // Backing off and driving into it again is a second one.
+  driveFor(&sim, 0.0, -0.8, 1.0);
+  driveFor(&sim, -0.5, 0.0, 1.0);
+  EXPECT_NEAR(sim.truePose().x, 4.1, 1e-4);
+  driveFor(&sim, 0.5, 0.0, 2.0);
+  EXPECT_NEAR(sim.truePose().x, 4.6, 1e-4);
+  EXPECT_EQ(sim.collisions(), 2u);
+  EXPECT_FALSE(sim.stuck());  // velocity commands: never "stuck"
+}
+
+TEST(GridmapSimulator, ARobotWithoutRadiusStopsAtTheWallsFace) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.start_y = 4.0;
+  c.start_theta = M_PI / 2;
+  c.robot_radius = 0.0;
+  GridmapSimulator sim(c);
+  std::string error;
+  ASSERT_TRUE(sim.load(&error)) << error;
+  SimulatedScan s;
+  ASSERT_TRUE(sim.step(&s));
+  driveFor(&sim, 0.5, 0.0, 3.0);
+  EXPECT_NEAR(sim.truePose().y, 4.8, 1e-4);
+  EXPECT_EQ(sim.collisions(), 1u);
+}
+
+TEST(GridmapSimulator, ARouteIntoAWallEndsHeldByIt) {
+  // The second waypoint lies beyond the east wall: the robot pushes on it for 5 s, then the run
+  // ends (it would never arrive) and says so.
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.waypoints = writeWaypoints(dir, "3 0\n6 0\n");
+  const std::string rawlog = (dir / "wall.rawlog").string();
+  io::SimulationSummary summary;
+  std::string error;
+  ASSERT_TRUE(io::simulateToRawlog(c, rawlog, &summary, &error)) << error;
+  EXPECT_EQ(summary.collisions, 1u);
+  EXPECT_TRUE(summary.stuck);
+  // 1.6 m to the contact at 0.5 m/s, then 5 s held.
+  EXPECT_NEAR(summary.last_stamp - summary.first_stamp, 1.6 / 0.5 + 5.0, 0.25);
+  EXPECT_NEAR(summary.path_length, 1.6, 0.01);
+}
+
+TEST(GridmapSimulator, ObstaclesAreTheMapsOccupiedCells) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulator sim(roomConfig(dir));
+  std::string error;
+  ASSERT_TRUE(sim.load(&error)) << error;
+  const exploration::OccupancyImage& o = sim.obstacles();
+  EXPECT_EQ(o.geometry.width, kRoomPixels);
+  EXPECT_EQ(o.geometry.height, kRoomPixels);
+  EXPECT_NEAR(o.geometry.resolution, kResolution, 1e-6);
+  EXPECT_NEAR(o.geometry.origin_x, -5.0, 1e-6);
+  EXPECT_NEAR(o.geometry.origin_y, -5.0, 1e-6);
+  const int inner = kRoomPixels - 2 * kWallPixels;
+  EXPECT_EQ(std::count(o.occupied.begin(), o.occupied.end(), 1),
+            kRoomPixels * kRoomPixels - inner * inner);
+  EXPECT_TRUE(o.occupiedAt(0, 0));
+  EXPECT_FALSE(o.occupiedAt(kWallPixels, kWallPixels));
+  EXPECT_TRUE(o.occupiedAt(kWallPixels - 1, kRoomPixels / 2));
+}
+
 TEST(GridmapSimulator, RawlogReadsBackWithTheSameScansOdometryAndGroundTruth) {
   const fs::path dir = test::scratchDir();
   GridmapSimulatorConfig c;
@@ -432,6 +530,10 @@ TEST(GridmapSimulator, BadInputGivesAOneLineError) {
   invalid.moving_object_end = 4.0;
   EXPECT_FALSE(invalid.isValid(&error));
   expectOneLineError(error, "moving_object_end");
+  invalid = c;
+  invalid.robot_radius = -0.1;
+  EXPECT_FALSE(invalid.isValid(&error));
+  expectOneLineError(error, "robot_radius must be >= 0 (m)");
   invalid = c;
   invalid.kidnap_time = 0.5;  // before start_time
   EXPECT_FALSE(invalid.isValid(&error));

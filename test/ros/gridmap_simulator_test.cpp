@@ -1,7 +1,8 @@
 // rostest for gridmap_simulator (gridmap_simulator.test): the simulator drives a short route
 // through test/data/sim_map.png on simulated time with noisy odometry and feeds the SLAM nodelet;
-// this node checks that scans, tf and the ground truth arrive, that ~done turns true, and that the
-// SLAM ends near the true pose while the odometry alone does not.
+// this node checks that scans, tf and the ground truth arrive, that ~done turns true, that the
+// route made no collision, and that the SLAM ends near the true pose while the odometry alone
+// does not.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -16,6 +17,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Bool.h>
+#include <std_msgs/UInt32.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -29,6 +31,8 @@ namespace {
 struct Observed {
   std::mutex mutex;
   bool done = false;
+  bool have_collisions = false;
+  uint32_t collisions = 0;
   size_t scans = 0;
   double last_scan_stamp = 0.0;
   size_t scan_rays = 0;
@@ -79,6 +83,9 @@ TEST(GridmapSimulatorRos, DrivesTheRouteAndTheSlamEndsNearTheTruth) {
     last_stamp = path.poses.back().header.stamp.toSec();
     EXPECT_NEAR(observed->last_scan_stamp, last_stamp, 1e-6);
     EXPECT_GT(truth_end.translation().norm(), 5.0);  // it went somewhere
+    // The route keeps clear of the walls (robot_radius 0.2 m).
+    EXPECT_TRUE(observed->have_collisions);
+    EXPECT_EQ(observed->collisions, 0u);
   }
 
   // tf: the odometry at the last scan and the laser's mounting.
@@ -135,6 +142,12 @@ int main(int argc, char** argv) {
     std::lock_guard<std::mutex> lock(obs.mutex);
     obs.done = m->data;
   });
+  auto collisions = nh.subscribe<std_msgs::UInt32>(
+      "/gridmap_simulator/collisions", 1, [&](const std_msgs::UInt32::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(obs.mutex);
+        obs.have_collisions = true;
+        obs.collisions = m->data;
+      });
   auto scan = nh.subscribe<sensor_msgs::LaserScan>("/scan", 1000,
                                                    [&](const sensor_msgs::LaserScan::ConstPtr& m) {
                                                      std::lock_guard<std::mutex> lock(obs.mutex);

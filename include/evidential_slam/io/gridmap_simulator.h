@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "evidential_slam/core/exploration/coverage.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/pose2.h"
 
@@ -42,6 +43,9 @@ struct GridmapSimulatorConfig {
   double linear_speed = 0.5;        // m/s, forward speed limit
   double angular_speed = 0.8;       // rad/s, turn rate limit
   double waypoint_tolerance = 0.1;  // m, a waypoint closer than this is reached
+  // m; the robot is a disc this wide: a motion that would take it into an occupied cell stops at
+  // contact (its turn goes on) and counts as a collision. 0: a point.
+  double robot_radius = 0.2;
   double duration = 0.0;            // s of simulation at most; 0 = until the last waypoint
   double start_time = 1.0;          // s, clock at the first scan (> 0: 0 means "unset" in ROS)
   double scan_period = 0.1;         // s between scans (and odometry increments)
@@ -105,6 +109,8 @@ struct SimulatedScan {
   LaserScan scan;            // bearings right to left, valid = 0 for "no return"
   bool kidnapped = false;    // the kidnap happened just before this scan
   bool moving_object = false;
+  uint64_t collisions = 0;  // collisions so far: each time the robot's disc ran into a wall
+  bool in_contact = false;  // a wall stopped the robot and it has not moved 1 cm away since
 };
 
 class GridmapSimulator {
@@ -127,12 +133,23 @@ class GridmapSimulator {
 
   bool followsWaypoints() const;
   bool finished() const;
+  // Collisions so far: each time a motion was stopped at a wall, unless the robot had been
+  // stopped before and not moved 1 cm away from every wall since (pushing on counts once).
+  uint64_t collisions() const;
+  // Where the last collision happened (true robot position, map frame) and when.
+  Eigen::Vector2d lastCollisionPosition() const;
+  double lastCollisionTime() const;
+  // A waypoint route ends early when a wall has held the robot for 5 s (it would never arrive).
+  bool stuck() const;
   double now() const;              // simulation clock (s)
   Pose2 truePose() const;          // map frame
   const Pose2& laserPose() const;  // on the robot
   double mapResolution() const;    // m per cell, as loaded
   // Corners of the loaded map (m, map frame): min x, min y, max x, max y.
   Eigen::Vector4d mapBounds() const;
+  // The loaded map's obstacles (cells at least occupied_threshold occupied), map frame: what
+  // stops rays and the robot, and the ground truth of exploration coverage.
+  const exploration::OccupancyImage& obstacles() const;
   const GridmapSimulatorConfig& config() const;
 
  private:
@@ -175,6 +192,8 @@ struct SimulationSummary {
   double odometry_error = 0.0;       // m, |odometry - aligned truth| at the last scan
   bool kidnapped = false;            // the kidnap happened (it may come after the end)
   uint64_t moving_object_scans = 0;  // scans that saw the moving object
+  uint64_t collisions = 0;           // GridmapSimulator::collisions()
+  bool stuck = false;                // the route ended early, held by a wall
 };
 
 // Runs `config` to the end into `rawlog_path` and its ground truth. False with a one-line error.

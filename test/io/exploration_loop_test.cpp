@@ -1,0 +1,107 @@
+// Exploration in closed loop without ROS (io/exploration_run.h): the simulator, the SLAM engine
+// (K = 100) and the Explorer on the two-room fixture map (test/data/sim_map.png, 16 m x 12 m,
+// two doors): with either strategy the robot must map at least 95 % of the free space it can
+// reach, stop by itself well within the simulated time allowed, and never touch a wall. Each run
+// takes about 30 s here.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "evidential_slam/io/exploration_run.h"
+#include "test_util.h"
+
+namespace evidential_slam {
+namespace {
+
+io::ExplorationRunConfig twoRoomRun(exploration::Strategy strategy) {
+  io::ExplorationRunConfig c;
+  c.simulator.map = test::dataPath("sim_map.png");
+  c.simulator.resolution = 0.05;
+  c.simulator.start_x = -6.0;  // the left room's lower left, facing east
+  c.simulator.start_y = -4.0;
+  c.simulator.seed = 1;
+  c.slam.particles = 100;
+  c.slam.seed = 1;
+  c.slam.threads = 2;
+  c.explorer.frontiers.strategy = strategy;
+  c.max_time = 400.0;
+  return c;
+}
+
+// Runs, prints the figures and checks the run's promises.
+void exploreAndCheck(exploration::Strategy strategy) {
+  const io::ExplorationRunConfig c = twoRoomRun(strategy);
+  io::ExplorationRunResult r;
+  std::string error;
+  ASSERT_TRUE(io::runExploration(c, &r, &error)) << error;
+  std::printf(
+      "%s: coverage %.4f after %.1f m in %.1f s simulated (%.1f s wall: SLAM %.1f s, explorer "
+      "%.1f s), %llu collision(s), closest to a wall %.2f m, to 90 %%: %.0f s, pose error "
+      "%.3f m; %s\n",
+      exploration::strategyName(strategy), r.final_coverage, r.distance_m, r.sim_time_s,
+      r.wall_time_s, r.slam_time_s, r.explorer_time_s,
+      static_cast<unsigned long long>(r.collisions), r.min_wall_distance_m, r.time_to_90_s,
+      r.final_position_error_m, r.stop_reason.c_str());
+  EXPECT_TRUE(r.done) << r.stop_reason;
+  EXPECT_LT(r.sim_time_s, 300.0);
+  EXPECT_GE(r.final_coverage, 0.95);
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_GT(r.min_wall_distance_m, 0.2);  // the simulator's robot_radius
+  ASSERT_TRUE(r.final_map);
+  EXPECT_GT(r.reachable_cells, 40000u);  // most of the 16 m x 12 m at 0.05 m
+  EXPECT_LT(r.final_position_error_m, 0.3);
+  ASSERT_GE(r.coverage.size(), 2u);
+  EXPECT_EQ(r.coverage.front().time, 0.0);
+  EXPECT_EQ(r.coverage.back().time, r.sim_time_s);
+  EXPECT_EQ(r.coverage.back().coverage, r.final_coverage);
+  for (size_t k = 1; k < r.coverage.size(); ++k) {
+    EXPECT_GT(r.coverage[k].time, r.coverage[k - 1].time);
+    EXPECT_GE(r.coverage[k].distance, r.coverage[k - 1].distance);
+  }
+  EXPECT_GT(r.time_to_90_s, 0.0);
+
+  // exploration.json holds the fields.
+  const std::string path = (test::scratchDir() / "exploration.json").string();
+  ASSERT_TRUE(io::writeExplorationJson(path, r, &error)) << error;
+  const nlohmann::json j = nlohmann::json::parse(test::readText(path));
+  EXPECT_DOUBLE_EQ(j.at("final_coverage").get<double>(), r.final_coverage);
+  EXPECT_EQ(j.at("coverage").size(), r.coverage.size());
+  EXPECT_EQ(j.at("coverage")[0].size(), 3u);
+  EXPECT_DOUBLE_EQ(j.at("distance_m").get<double>(), r.distance_m);
+  EXPECT_EQ(j.at("collisions").get<int>(), 0);
+  EXPECT_DOUBLE_EQ(j.at("time_to_90_s").get<double>(), r.time_to_90_s);
+  EXPECT_TRUE(r.time_to_99_s < 0.0 ? j.at("time_to_99_s").is_null()
+                                   : j.at("time_to_99_s").get<double>() == r.time_to_99_s);
+  EXPECT_EQ(j.at("stop_reason").get<std::string>(), r.stop_reason);
+}
+
+TEST(ExplorationLoop, NonSpecificityStrategyExploresTheTwoRooms) {
+  exploreAndCheck(exploration::Strategy::kNonSpecificity);
+}
+
+TEST(ExplorationLoop, FrontierStrategyExploresTheTwoRooms) {
+  exploreAndCheck(exploration::Strategy::kFrontier);
+}
+
+TEST(ExplorationLoop, BadConfigurationIsRefused) {
+  io::ExplorationRunConfig c = twoRoomRun(exploration::Strategy::kNonSpecificity);
+  io::ExplorationRunResult r;
+  std::string error;
+  c.simulator.waypoints = test::dataPath("sim_map_waypoints.txt");
+  EXPECT_FALSE(io::runExploration(c, &r, &error));
+  EXPECT_EQ(error, "invalid exploration run: simulator: exploration drives it: no waypoints");
+  c = twoRoomRun(exploration::Strategy::kNonSpecificity);
+  c.explorer.planner_frequency = -1.0;
+  EXPECT_FALSE(io::runExploration(c, &r, &error));
+  EXPECT_EQ(error, "invalid exploration run: explorer: planner_frequency must be > 0 (Hz)");
+  c = twoRoomRun(exploration::Strategy::kNonSpecificity);
+  c.simulator.map = test::dataPath("no_such_map.png");
+  EXPECT_FALSE(io::runExploration(c, &r, &error));
+  EXPECT_NE(error.find("does not exist"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace evidential_slam
