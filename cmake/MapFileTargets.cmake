@@ -30,6 +30,12 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_map_file evidential_slam_io ZLIB::ZLIB)
   target_compile_definitions(test_map_file PRIVATE ${MAP_FILE_TEST_DEFINITIONS})
 
+  # Mapping the fixture in one go and in two halves through a saved file.
+  catkin_add_gtest(test_map_continue test/io/map_continue_test.cpp test/io/test_main.cpp
+    TIMEOUT 300)
+  target_link_libraries(test_map_continue evidential_slam_io)
+  target_compile_definitions(test_map_continue PRIVATE ${MAP_FILE_TEST_DEFINITIONS})
+
   # --- libFuzzer target for the reader -----------------------------------------------------------
   # Built like the OctoMap reader's (OctomapTargets.cmake): with clang, ASan and UBSan, when that
   # file's probe found a clang++ that links -fsanitize=fuzzer (it then set ES_FUZZER_BIN).
