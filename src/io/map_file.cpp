@@ -517,6 +517,14 @@ bool decodeMapFile(const uint8_t* data, size_t size, EvidentialGridMap* map, Map
   return true;
 }
 
+std::string resolveMapFilePath(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    return (std::filesystem::path(path) / kMapFileName).string();
+  }
+  return path;
+}
+
 bool writeMapFile(const std::string& path, const EvidentialGridMap& map, const MapFileInfo& info,
                   std::string* error, MapFileStats* stats) {
   std::string bytes, why;

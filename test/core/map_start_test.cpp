@@ -147,6 +147,7 @@ TEST(MapStartTest, AnchoredOdometry) {
   const ScanUpdate u =
       engine.processScan(odometry_at_start.compose(moved), roomScan(expected, 10.0, true));
   ASSERT_TRUE(u.processed);
+  EXPECT_EQ(engine.lastOdometry().x, odometry_at_start.compose(moved).x);
   EXPECT_NEAR(u.best_pose.x, expected.x, 1e-9);
   EXPECT_NEAR(u.best_pose.y, expected.y, 1e-9);
   EXPECT_NEAR(normalizeAngle(u.best_pose.theta - expected.theta), 0.0, 1e-9);

@@ -97,7 +97,7 @@ void twoHalves(bool anchored) {
   io::MapFileInfo saved;
   saved.robot_pose = first.bestPose();
   saved.has_odometry_pose = anchored;
-  saved.odometry_pose = scans[kFirstHalf - 1].odometry;
+  saved.odometry_pose = first.lastOdometry();
   saved.parameters = {{"particles", "20"}, {"seed", "3"}};
   saved.metadata = {{"source", "sim.rawlog"}, {"scans", std::to_string(kFirstHalf)}};
   const std::string path = (test::scratchDir() / io::kMapFileName).string();

@@ -248,6 +248,14 @@ TEST(MapFile, WriteAndReadAFile) {
   expectSameMaps(sampleMap(), read);
 }
 
+// A directory stands for the map file in it.
+TEST(MapFile, ResolvePath) {
+  const fs::path dir = test::scratchDir();
+  EXPECT_EQ(resolveMapFilePath(dir.string()), (dir / kMapFileName).string());
+  EXPECT_EQ(resolveMapFilePath((dir / "other.evmap").string()), (dir / "other.evmap").string());
+  EXPECT_EQ(resolveMapFilePath("no/such/dir"), "no/such/dir");
+}
+
 // Names and values that are not UTF-8 are stored (as U+FFFD), not refused.
 TEST(MapFile, InvalidUtf8IsReplaced) {
   MapFileInfo info;

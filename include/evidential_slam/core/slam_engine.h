@@ -96,6 +96,9 @@ class SlamEngine {
   PoseEstimate poseEstimate() const;
   // map -> odom correction for the latest scan (REP-105): map_T_odom = best ⊕ odometry⁻¹.
   Pose2 mapToOdom() const;
+  // The odometry pose of the latest scan given to processScan (what bestPose() is at): a map file
+  // saves it beside bestPose() for a run that continues the same odometry frame.
+  const Pose2& lastOdometry() const { return last_odometry_; }
 
  private:
   SlamConfig config_;

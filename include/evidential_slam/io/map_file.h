@@ -16,8 +16,20 @@
 namespace evidential_slam {
 namespace io {
 
+// How a front end uses it.
+// Saving: writeMapFile(<out>/kMapFileName, engine.bestMap(), info) with info.robot_pose =
+//   engine.bestPose(), info.odometry_pose = engine.lastOdometry() (has_odometry_pose = true), the
+//   parameter table as info.parameters and e.g. the log, scan count and stamp as info.metadata.
+// Continuing: readMapFile(resolveMapFilePath(arg), &map, &info); construct the SlamEngine with
+//   config.resolution = map.resolution() (startFromMap refuses another); then
+//   engine.startFromMap(map, pose, &why, odometry) with pose = info.robot_pose or a pose the user
+//   gave, and odometry = &info.odometry_pose only when the scans to come share the saved
+//   odometry frame (the same log continued), else nullptr.
+
 // The name front ends give the file in their output directory.
 constexpr const char* kMapFileName = "map.evmap";
+// `path` itself, or path/kMapFileName when `path` is a directory (`--load-map DIR`).
+std::string resolveMapFilePath(const std::string& path);
 // The format version this build writes and the only one it reads.
 constexpr uint16_t kMapFormatVersion = 1;
 
