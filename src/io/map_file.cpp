@@ -213,6 +213,22 @@ class Inflater {
   bool ended_ = false;
 };
 
+// The tile index places the grid keeps for `tiles` tiles spanning tx0..tx1 x ty0..ty1, checked
+// against MapFileLimits; false (and why) beyond them.
+bool indexSpanFits(uint64_t tiles, int64_t tx0, int64_t ty0, int64_t tx1, int64_t ty1,
+                   std::string* why) {
+  if (tiles == 0) return true;
+  const uint64_t places =
+      static_cast<uint64_t>(tx1 - tx0 + 1) * static_cast<uint64_t>(ty1 - ty0 + 1);
+  const uint64_t cap =
+      std::min(MapFileLimits::kMaxIndexTiles,
+               std::max(MapFileLimits::kMinIndexTiles, MapFileLimits::kIndexTilesPerTile * tiles));
+  if (places <= cap) return true;
+  *why = "the tiles span " + std::to_string(places) + " tile places, more than " +
+         std::to_string(cap) + " for " + std::to_string(tiles) + " tiles";
+  return false;
+}
+
 bool finitePose(const Pose2& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta);
 }
@@ -341,6 +357,18 @@ bool encodeMapFile(const EvidentialGridMap& map, const MapFileInfo& info, std::s
   if (tiles.size() > MapFileLimits::kMaxTiles) {
     return fail(error, std::to_string(tiles.size()) + " tiles are more than a map file holds");
   }
+  if (!coordinates.empty()) {  // what the reader would refuse is not written
+    int64_t min_x = coordinates.front().first, max_x = min_x;
+    for (const auto& c : coordinates) {
+      min_x = std::min<int64_t>(min_x, c.first);
+      max_x = std::max<int64_t>(max_x, c.first);
+    }
+    std::string why;
+    if (!indexSpanFits(coordinates.size(), min_x, coordinates.front().second, max_x,
+                       coordinates.back().second, &why)) {
+      return fail(error, why);
+    }
+  }
 
   Json meta;
   meta["resolution"] = resolution;
@@ -389,6 +417,10 @@ bool encodeMapFile(const EvidentialGridMap& map, const MapFileInfo& info, std::s
   out += metadata;
   out += payload;
   putU32(&out, crc32Of(reinterpret_cast<const uint8_t*>(out.data()), out.size()));
+  if (out.size() > MapFileLimits::kMaxFileBytes) {
+    return fail(error, "the file would be " + std::to_string(out.size()) +
+                           " bytes, more than a map file holds");
+  }
   if (stats != nullptr) {
     stats->file_bytes = out.size();
     stats->tiles = tiles.size();
@@ -486,17 +518,7 @@ bool decodeMapFile(const uint8_t* data, size_t size, EvidentialGridMap* map, Map
     min_y = i == 0 ? ty : min_y;  // ty is non-decreasing
     max_y = ty;
   }
-  const uint64_t index_tiles =
-      tile_count == 0 ? 0 : static_cast<uint64_t>(max_x - min_x + 1) * (max_y - min_y + 1);
-  const uint64_t index_cap =
-      std::min(MapFileLimits::kMaxIndexTiles,
-               std::max(MapFileLimits::kMinIndexTiles,
-                        MapFileLimits::kIndexTilesPerTile * uint64_t{tile_count}));
-  if (index_tiles > index_cap) {
-    return fail(error, "the tiles span " + std::to_string(index_tiles) +
-                           " tile places, more than " + std::to_string(index_cap) + " for " +
-                           std::to_string(tile_count) + " tiles");
-  }
+  if (!indexSpanFits(tile_count, min_x, min_y, max_x, max_y, &why)) return fail(error, why);
 
   EvidentialGridMap read_map(resolution);
   if (tile_count > 0) {

@@ -277,6 +277,12 @@ TEST(MapFile, WriterRefusesWhatItCannotStore) {
   updateCell(far.mutableCell(40 << 20, 0), ScanMass{0.5f, 0.0f});
   EXPECT_FALSE(encodeMapFile(far, MapFileInfo{}, &bytes, &error));
   EXPECT_NE(error.find("beyond"), std::string::npos) << error;
+  // Two tiles 300 tiles apart need a 301 x 301 index, more than the reader allows for 2 tiles.
+  EvidentialGridMap sparse(0.05);
+  updateCell(sparse.mutableCell(0, 0), ScanMass{0.5f, 0.0f});
+  updateCell(sparse.mutableCell(300 * 32, 300 * 32), ScanMass{0.5f, 0.0f});
+  EXPECT_FALSE(encodeMapFile(sparse, MapFileInfo{}, &bytes, &error));
+  EXPECT_NE(error.find("tile places"), std::string::npos) << error;
   const fs::path dir = test::scratchDir();
   EXPECT_FALSE(writeMapFile((dir / "missing" / "map.evmap").string(), EvidentialGridMap(0.05),
                             MapFileInfo{}, &error));
