@@ -30,11 +30,13 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_map_file evidential_slam_io ZLIB::ZLIB)
   target_compile_definitions(test_map_file PRIVATE ${MAP_FILE_TEST_DEFINITIONS})
 
-  # Mapping the fixture in one go and in two halves through a saved file.
+  # Mapping the fixture in one go and in two halves through a saved file (the session library is
+  # defined after this file is included; CMake resolves the name at generation).
   catkin_add_gtest(test_map_continue test/io/map_continue_test.cpp test/io/test_main.cpp
     TIMEOUT 300)
-  target_link_libraries(test_map_continue evidential_slam_io)
-  target_compile_definitions(test_map_continue PRIVATE ${MAP_FILE_TEST_DEFINITIONS})
+  target_link_libraries(test_map_continue evidential_slam_session)
+  target_compile_definitions(test_map_continue PRIVATE ${MAP_FILE_TEST_DEFINITIONS}
+    ES_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
 
   # --- libFuzzer target for the reader -----------------------------------------------------------
   # Built like the OctoMap reader's (OctomapTargets.cmake): with clang, ASan and UBSan, when that
