@@ -92,6 +92,24 @@ void EvidentialGridMap::ensureTile(int tx, int ty) {
     if (tx < tile_x0_ + tiles_w_) x1 = tile_x0_ + tiles_w_ - 1;
     if (ty < tile_y0_ + tiles_h_) y1 = tile_y0_ + tiles_h_ - 1;
   }
+  growIndex(x0, y0, x1, y1);
+}
+
+void EvidentialGridMap::reserveTiles(int tx0, int ty0, int tx1, int ty1) {
+  if (tx1 < tx0 || ty1 < ty0) return;
+  if (tiles_w_ > 0) {
+    tx0 = std::min(tx0, tile_x0_);
+    ty0 = std::min(ty0, tile_y0_);
+    tx1 = std::max(tx1, tile_x0_ + tiles_w_ - 1);
+    ty1 = std::max(ty1, tile_y0_ + tiles_h_ - 1);
+    if (tx0 == tile_x0_ && ty0 == tile_y0_ && tx1 - tx0 + 1 == tiles_w_ &&
+        ty1 - ty0 + 1 == tiles_h_)
+      return;
+  }
+  growIndex(tx0, ty0, tx1, ty1);
+}
+
+void EvidentialGridMap::growIndex(int x0, int y0, int x1, int y1) {
   const int w = x1 - x0 + 1, h = y1 - y0 + 1;
   std::vector<std::shared_ptr<Tile>> grown(static_cast<size_t>(w) * h);
   for (int j = 0; j < tiles_h_; ++j) {

@@ -156,6 +156,16 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   return info;
 }
 
+void ParticleFilter::startOnMap(const EvidentialGridMap& map, const Pose2& pose) {
+  particles_.assign(static_cast<size_t>(config_.particles), Particle{});
+  const uint64_t id = next_map_id_++;
+  for (Particle& p : particles_) {
+    p.pose = pose;
+    p.map = map;  // copies the tile pointers only
+    p.map_id = id;
+  }
+}
+
 LaserScan ParticleFilter::hitBeamSubset(const LaserScan& scan, const SensorModelConfig& sensor,
                                         int stride) {
   LaserScan out;

@@ -22,6 +22,38 @@ void SlamEngine::reset() {
   scan_records_.clear();
   step_odometry_.clear();
   step_stamps_.clear();
+  if (start_) filter_->startOnMap(start_->map, start_->pose);
+}
+
+bool SlamEngine::startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
+                              const Pose2* odometry) {
+  const auto finite = [](const Pose2& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta);
+  };
+  std::string reason;
+  if (!(std::abs(map.resolution() - config_.resolution) <= 1e-9 * config_.resolution)) {
+    reason = "the map's resolution (" + std::to_string(map.resolution()) +
+             " m) is not the configured one (" + std::to_string(config_.resolution) + " m)";
+  } else if (!finite(pose) || (odometry != nullptr && !finite(*odometry))) {
+    reason = "the start pose is not finite";
+  }
+  if (!reason.empty()) {
+    if (why != nullptr) *why = reason;
+    return false;
+  }
+  auto start = std::make_unique<MapStart>();
+  start->map = map;
+  start->pose = pose;
+  start->anchored = odometry != nullptr;
+  if (odometry != nullptr) start->odometry = *odometry;
+  start_ = std::move(start);
+  reset();
+  return true;
+}
+
+Pose2 SlamEngine::poseBeforeFirstScan(const Pose2& odometry) const {
+  if (!start_) return odometry;  // the map frame starts as the odom frame
+  return start_->anchored ? start_->pose.compose(start_->odometry.between(odometry)) : start_->pose;
 }
 
 bool SlamEngine::reconfigure(const SlamConfig& config, std::string* why) {
@@ -68,7 +100,11 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
   }
 
   FilterStepInfo info;
-  if (!have_last_processed_) {
+  if (!have_last_processed_ && start_) {
+    // The particles wait on the start map: this scan is their first step from the start pose.
+    const Pose2 increment = start_->anchored ? start_->odometry.between(odometry) : Pose2();
+    info = filter_->update(increment, scan, 0);
+  } else if (!have_last_processed_) {
     info = filter_->initialize(odometry, scan, 0);
   } else {
     const Pose2 increment = last_processed_odometry_.between(odometry);
@@ -103,7 +139,10 @@ const EvidentialGridMap& SlamEngine::bestMap() const {
 }
 
 Pose2 SlamEngine::bestPose() const {
-  if (!have_last_processed_ || filter_->particles().empty()) return last_odometry_;
+  if (!have_last_processed_ || filter_->particles().empty()) {
+    if (start_ && stats_.scans_received == 0) return start_->pose;
+    return poseBeforeFirstScan(last_odometry_);
+  }
   return filter_->best().pose.compose(last_processed_odometry_.between(last_odometry_));
 }
 
@@ -112,7 +151,7 @@ void SlamEngine::particlePoses(std::vector<Pose2>* poses, std::vector<double>* w
   weights->clear();
   const std::vector<Particle>& particles = filter_->particles();
   if (!have_last_processed_ || particles.empty()) {
-    poses->push_back(last_odometry_);
+    poses->push_back(bestPose());
     weights->push_back(1.0);
     return;
   }
@@ -162,8 +201,13 @@ std::vector<StampedPose> SlamEngine::bestTrajectory() const {
     }
   }
   for (const ScanRecord& r : scan_records_) {
-    if (r.step < 0) {  // before the first processed scan the map frame is the odom frame
-      out.push_back(StampedPose{r.stamp, r.odometry});
+    if (r.step < 0) {             // before the first processed scan
+      if (start_ && steps > 0) {  // on a start map: where the first processed scan puts it
+        out.push_back(
+            StampedPose{r.stamp, step_pose[0].compose(step_odometry_[0].between(r.odometry))});
+      } else {
+        out.push_back(StampedPose{r.stamp, poseBeforeFirstScan(r.odometry)});
+      }
       continue;
     }
     const size_t s = static_cast<size_t>(r.step);

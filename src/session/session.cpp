@@ -59,4 +59,13 @@ void MappingSession::reset() {
   have_last_stamp_ = false;
 }
 
+bool MappingSession::startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
+                                  const Pose2* odometry) {
+  if (!engine_.startFromMap(map, pose, why, odometry)) return false;
+  alarm_.reset();
+  conflict_log_.clear();
+  have_last_stamp_ = false;
+  return true;
+}
+
 }  // namespace evidential_slam

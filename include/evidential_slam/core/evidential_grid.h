@@ -173,6 +173,21 @@ class EvidentialGridMap {
     return tile.cells[cellInTile(cx, cy)];
   }
 
+  // Calls fn(tx, ty, tile) for every allocated tile (tile coordinates), row by row from the
+  // lowest y, each row from the lowest x.
+  template <typename Fn>
+  void forEachTile(Fn&& fn) const {
+    for (int j = 0; j < tiles_h_; ++j) {
+      for (int i = 0; i < tiles_w_; ++i) {
+        const Tile* t = tiles_[static_cast<size_t>(j) * tiles_w_ + i].get();
+        if (t != nullptr) fn(tile_x0_ + i, tile_y0_ + j, *t);
+      }
+    }
+  }
+  // Makes room for the tiles tx0..tx1 x ty0..ty1 (inclusive) at once, without allocating any: a
+  // map filled from a file then grows its tile index once instead of tile by tile.
+  void reserveTiles(int tx0, int ty0, int tx1, int ty1);
+
   // Box of allocated tiles (in cells); empty for a fresh grid.
   CellBox allocatedBox() const;
   // Tight box of the observed (non-vacuous) cells.
@@ -185,6 +200,8 @@ class EvidentialGridMap {
 
  private:
   void ensureTile(int tx, int ty);
+  // Re-indexes the tiles onto the box x0..x1 x y0..y1 (inclusive), which holds the current one.
+  void growIndex(int x0, int y0, int x1, int y1);
   Tile& mutableTileSlow(int tx, int ty);
 
   static const Cell kVacuousCell;

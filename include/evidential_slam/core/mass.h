@@ -106,6 +106,28 @@ class Cell {
     c.setLambda(lambda);
     return c;
   }
+  // The stored bits (lossless map files): m̃(o) and m̃(e) in steps of 2^-23 (a mass of 1 is
+  // kMassSteps) and λ's IEEE half-float bits.
+  uint32_t occupiedSteps() const { return (uint32_t{occupied_hi_} << 8) | occupied_lo_; }
+  uint32_t freeSteps() const { return (uint32_t{free_hi_} << 8) | free_lo_; }
+  uint16_t lambdaBits() const { return lambda_.x; }
+  // The largest λ bits a cell holds: 65504, the largest finite half float (setLambda's cap).
+  static constexpr uint16_t kMaxLambdaBits = 0x7BFF;
+  // The cell with these stored bits; false (and `out` untouched) for bits no cell holds: masses
+  // summing above 1, λ negative, infinite, NaN or above the cap.
+  static bool fromBits(uint32_t occupied_steps, uint32_t free_steps, uint16_t lambda_bits,
+                       Cell* out) {
+    if (occupied_steps > kMassSteps || free_steps > kMassSteps - occupied_steps ||
+        lambda_bits > kMaxLambdaBits) {
+      return false;
+    }
+    out->occupied_hi_ = static_cast<uint16_t>(occupied_steps >> 8);
+    out->occupied_lo_ = static_cast<uint8_t>(occupied_steps);
+    out->free_hi_ = static_cast<uint16_t>(free_steps >> 8);
+    out->free_lo_ = static_cast<uint8_t>(free_steps);
+    out->lambda_.x = lambda_bits;
+    return true;
+  }
   bool operator==(const Cell& o) const {
     return occupiedSteps() == o.occupiedSteps() && freeSteps() == o.freeSteps() &&
            lambda_.x == o.lambda_.x;
@@ -122,9 +144,6 @@ class Cell {
     const uint32_t whole = static_cast<uint32_t>(x);
     return whole + static_cast<uint32_t>(x - static_cast<float>(whole) >= 0.5f);
   }
-  uint32_t occupiedSteps() const { return (uint32_t{occupied_hi_} << 8) | occupied_lo_; }
-  uint32_t freeSteps() const { return (uint32_t{free_hi_} << 8) | free_lo_; }
-
   // 24 bits each, split so that the cell packs into 8 bytes with 2-byte alignment.
   uint16_t occupied_hi_ = 0;
   uint16_t free_hi_ = 0;

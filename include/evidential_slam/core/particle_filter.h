@@ -52,6 +52,10 @@ class ParticleFilter {
 
   // First scan: every particle starts at `pose` and integrates the scan.
   FilterStepInfo initialize(const Pose2& pose, const LaserScan& scan, int step);
+  // Places every particle at `pose` on `map` (all of them sharing its tiles, copied only when
+  // written) without a scan: the next update() moves them from there. `map` must have the
+  // configured resolution (SlamEngine::startFromMap checks it).
+  void startOnMap(const EvidentialGridMap& map, const Pose2& pose);
   // Later scans: sample from the motion model for the odometry increment, refine, weight,
   // integrate, resample if needed.
   FilterStepInfo update(const Pose2& odometry_increment, const LaserScan& scan, int step);

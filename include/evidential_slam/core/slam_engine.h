@@ -55,8 +55,24 @@ class SlamEngine {
   // only advance the odometry (motion gate).
   ScanUpdate processScan(const Pose2& odometry, const LaserScan& scan);
 
-  // Drops all particles, maps and the trajectory (e.g. when time jumps backwards).
+  // Drops all particles, maps and the trajectory (e.g. when time jumps backwards) and starts
+  // over: on the map startFromMap gave, if any (as it gave it), else on an empty map.
   void reset();
+
+  // Starts over on `map` (e.g. read from a map file): every particle gets the map, all sharing
+  // its tiles (a tile is copied only when a particle writes it), and the map pose `pose`. The
+  // next processed scan's odometry pose is taken to be at `pose`; with `odometry` (the odometry
+  // pose the robot had at `pose`, in the odom frame of the scans to come, e.g. when continuing a
+  // log) the robot is at pose ⊕ (odometry⁻¹ ⊕ its odometry) instead. From that scan on, mapping
+  // continues as usual (the scan is matched and integrated like any later one). The engine keeps
+  // `map` for reset(). False (and `why`) when the map's resolution is not the configured one or a
+  // pose is not finite; nothing changes then.
+  bool startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
+                    const Pose2* odometry = nullptr);
+  // Forgets the map startFromMap gave (and the memory it holds): the next reset() starts on an
+  // empty map. The particles are not touched.
+  void clearStartMap() { start_.reset(); }
+  bool hasStartMap() const { return start_ != nullptr; }
 
   // Applies new parameters while running (dynamic_reconfigure). Everything but the start-up
   // parameters (particles, resolution, seed, threads, which keep their constructed values) takes
@@ -80,6 +96,9 @@ class SlamEngine {
   PoseEstimate poseEstimate() const;
   // map -> odom correction for the latest scan (REP-105): map_T_odom = best ⊕ odometry⁻¹.
   Pose2 mapToOdom() const;
+  // The odometry pose of the latest scan given to processScan (what bestPose() is at): a map file
+  // saves it beside bestPose() for a run that continues the same odometry frame.
+  const Pose2& lastOdometry() const { return last_odometry_; }
 
  private:
   SlamConfig config_;
@@ -97,6 +116,16 @@ class SlamEngine {
   std::vector<ScanRecord> scan_records_;
   std::vector<Pose2> step_odometry_;  // odometry at each processed step
   std::vector<double> step_stamps_;   // stamp of each processed step's scan
+  // What startFromMap gave.
+  struct MapStart {
+    EvidentialGridMap map;
+    Pose2 pose;
+    bool anchored = false;  // `odometry` is the odometry pose at `pose`
+    Pose2 odometry;
+  };
+  std::unique_ptr<const MapStart> start_;
+  // Before the first processed scan: the map pose of the robot at odometry pose `odometry`.
+  Pose2 poseBeforeFirstScan(const Pose2& odometry) const;
 };
 
 }  // namespace evidential_slam

@@ -30,9 +30,9 @@ struct SessionScanResult {
     kRestarted,  // time jumped back beyond the tolerance: the SLAM started over with this scan
   };
   Order order = Order::kInOrder;
-  double stamp = 0.0;   // the scan's
-  std::string message;  // one line, for kDropped and kRestarted
-  ScanUpdate update;    // the engine's answer (unless dropped)
+  double stamp = 0.0;        // the scan's
+  std::string message;       // one line, for kDropped and kRestarted
+  ScanUpdate update;         // the engine's answer (unless dropped)
   ConflictAlarmState alarm;  // when update.processed
 };
 
@@ -46,8 +46,13 @@ class MappingSession {
   // New run-time parameters (the start-up ones keep their values). False (and `why`) when
   // invalid; nothing changes then.
   bool reconfigure(const Parameters& params, std::string* why);
-  // Starts over: no particles, no map, no conflict record.
+  // Starts over: no particles, no conflict record, and the map startFromMap gave (if any) or none.
   void reset();
+  // Starts over on `map` at `pose` (SlamEngine::startFromMap, which says what `odometry` does),
+  // e.g. a map file read with io::readMapFile. A later reset (a time jump back, a looping bag)
+  // starts on this map again. False (and `why`) when the engine refuses it; nothing changes then.
+  bool startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
+                    const Pose2* odometry = nullptr);
 
   const SlamEngine& engine() const { return engine_; }
   const Parameters& parameters() const { return params_; }
