@@ -81,6 +81,7 @@ void SlamNodelet::onInit() {
   map_publisher_ = std::make_unique<MapPublisher>(nh_, private_nh_, params_.map_frame,
                                                   [this] { return worker_->latestMap(); });
   map_publisher_->setExternalConflictDisplayMax(params_.external_conflict_display_max);
+  map_publisher_->setThresholds(params_.session.occupied_thresh, params_.session.free_thresh);
 
   pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10, true);
   particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
@@ -384,6 +385,7 @@ void SlamNodelet::onReconfigure(EvidentialSlamConfig& config, uint32_t) {
     params_ = next;
   }
   map_publisher_->setExternalConflictDisplayMax(next.external_conflict_display_max);
+  map_publisher_->setThresholds(next.session.occupied_thresh, next.session.free_thresh);
   if (interval_changed && map_timer_.isValid()) {
     map_timer_.setPeriod(ros::Duration(next.map_update_interval));
   }
@@ -434,10 +436,13 @@ bool SlamNodelet::getMap(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response&
     std::lock_guard<std::mutex> lock(params_mutex_);
     header.frame_id = params_.map_frame;
   }
-  OccupancyRendering rendering;
-  rendering.unknown_unobserved = true;
-  toOccupancyGrid(extractLayers(*snapshot.grid), Layer::kPignistic, rendering, header,
-                  &response.map);
+  double occupied = 0.0, free = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    occupied = params_.session.occupied_thresh;
+    free = params_.session.free_thresh;
+  }
+  toTrinaryOccupancyGrid(extractLayers(*snapshot.grid), occupied, free, header, &response.map);
   return true;
 }
 
