@@ -400,25 +400,22 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
   };
   if (request.directory.empty()) return fail("no directory given");
 
-  EvidentialGridMap grid;
-  std::vector<StampedPose> trajectory;
-  std::vector<ConflictRecord> conflicts;
+  MapSave save;
   SessionConfig config;
   bool have_map = false;
   worker_->runOnWorker([&](const MappingSession& session) {
-    have_map = session.engine().stats().scans_processed > 0;
-    grid = session.engine().bestMap();
-    trajectory = session.engine().bestTrajectory();
-    conflicts = session.conflictLog();
+    have_map = !session.engine().filter().particles().empty();
+    if (!have_map) return;
+    save = captureMapSave(session);
     config = session.parameters().session;
   });
-  if (!have_map) return fail("no map yet: no scan has been processed");
+  if (!have_map) return fail("no map yet: no scan has been processed and no map loaded");
+  save.info.metadata["source"] = "ros:" + nh_.resolveName("scan");
+  save.info.metadata["node"] = getName();
 
   MapFilesReport report;
   std::string error;
-  if (!writeMapFiles(request.directory, grid, trajectory, conflicts, config, &report, &error)) {
-    return fail(error);
-  }
+  if (!writeMapFiles(request.directory, save, config, &report, &error)) return fail(error);
   response.files = report.files;
   response.success = true;
   response.message =
