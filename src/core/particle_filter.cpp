@@ -137,11 +137,13 @@ FilterStepInfo ParticleFilter::initialize(const Pose2& pose, const LaserScan& sc
   // All particles would integrate the same scan at the same pose: do it once and share the tiles.
   Particle& first = particles_.front();
   Workspace& ws = *workspaces_.front();
-  const BeamModel* beam_model = &modelsFor(scan, false).beam;
-  beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
   FilterStepInfo info;
-  info.best_conflict_added_bits =
-      beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator, &info.best_conflict);
+  if (map_updates_) {
+    const BeamModel* beam_model = &modelsFor(scan, false).beam;
+    beam_model->traceScan(pose.compose(scan.sensor_pose), scan, &ws.traced);
+    info.best_conflict_added_bits =
+        beam_model->integrateScan(ws.traced, &first.map, &ws.accumulator, &info.best_conflict);
+  }
   auto root = std::make_shared<PathNode>();
   root->pose = pose;
   root->step = step;
@@ -379,15 +381,20 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     }
   }
 
-  // 4. Weight and map update, once per group.
+  // 4. Weight and map update (unless map updates are off), once per group.
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
   std::vector<ScanConflict> conflict_stats(leaders.size());
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
+    const Pose2 sensor_pose = proposed[leaders[g]].compose(scan.sensor_pose);
+    if (!map_updates_) {
+      log_pl[g] = beam_model->logPlausibility(p.map, sensor_pose, scan,
+                                              config_.sensor.weight_beam_stride);
+      return;
+    }
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-    const BeamModel::ScanEvidence evidence =
-        beam_model->weighAndIntegrate(proposed[leaders[g]].compose(scan.sensor_pose), scan, &p.map,
-                                      &ws.accumulator, config_.sensor.weight_beam_stride);
+    const BeamModel::ScanEvidence evidence = beam_model->weighAndIntegrate(
+        sensor_pose, scan, &p.map, &ws.accumulator, config_.sensor.weight_beam_stride);
     log_pl[g] = evidence.log_plausibility;
     conflict_added[g] = evidence.conflict_added_bits;
     conflict_stats[g] = evidence.conflict;

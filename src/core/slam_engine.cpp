@@ -22,7 +22,13 @@ void SlamEngine::reset() {
   scan_records_.clear();
   step_odometry_.clear();
   step_stamps_.clear();
+  filter_->setMapUpdates(!mapping_paused_);
   if (start_) filter_->startOnMap(start_->map, start_->pose);
+}
+
+void SlamEngine::setMappingPaused(bool paused) {
+  mapping_paused_ = paused;
+  filter_->setMapUpdates(!paused);
 }
 
 bool SlamEngine::startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,

@@ -12,6 +12,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   nlohmann::ordered_json j;
   j["rawlog"] = s.rawlog;
   j["rawlog_format"] = s.rawlog_format;
+  j["first_scan"] = s.first_scan;
   j["scans_total"] = s.scans_total;
   j["scans_processed"] = s.scans_processed;
   j["scans_rejected"] = s.scans_rejected;
@@ -57,6 +58,22 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["external_conflict_scale"] = s.external_conflict_scale;
   j["map_width"] = s.map_width;
   j["map_height"] = s.map_height;
+  if (s.start) {
+    nlohmann::ordered_json o;
+    o["map_file"] = s.start->map_file;
+    o["map_tiles"] = s.start->map_tiles;
+    o["pose"] = {s.start->x, s.start->y, s.start->theta};
+    o["pose_from"] = s.start->pose_from;
+    o["odometry_anchored"] = s.start->odometry_anchored;
+    j["start"] = o;
+  }
+  if (s.map_file) {
+    nlohmann::ordered_json o;
+    o["path"] = s.map_file->path;
+    o["bytes"] = s.map_file->bytes;
+    o["tiles"] = s.map_file->tiles;
+    j["map_file"] = o;
+  }
   j["outputs"] = s.outputs;
   j["conflict_alarms"] = s.conflict_alarm_stamps;
   if (s.octomap) {

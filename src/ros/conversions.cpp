@@ -184,12 +184,26 @@ void toOccupancyGrid(const LayerRaster& raster, Layer layer, const OccupancyRend
   out->data.resize(v.size());
   const double scale = 100.0 / rendering.full_scale;
   for (size_t i = 0; i < v.size(); ++i) {
-    if (rendering.unknown_unobserved && (i >= raster.observed.size() || !raster.observed[i])) {
-      out->data[i] = -1;
-      continue;
-    }
     const double value = std::isfinite(v[i]) ? v[i] * scale : (v[i] > 0 ? 100.0 : 0.0);
     out->data[i] = static_cast<int8_t>(std::lround(std::clamp(value, 0.0, 100.0)));
+  }
+}
+
+void toTrinaryOccupancyGrid(const LayerRaster& raster, double occupied_thresh, double free_thresh,
+                            const std_msgs::Header& header, nav_msgs::OccupancyGrid* out) {
+  out->header = header;
+  out->info = mapMetaData(raster, header.stamp);
+  const std::vector<float>& betp = raster.layer(Layer::kPignistic);
+  out->data.resize(betp.size());
+  for (size_t i = 0; i < betp.size(); ++i) {
+    const bool observed = i < raster.observed.size() && raster.observed[i] != 0;
+    int8_t value = -1;
+    if (observed && betp[i] > occupied_thresh) {
+      value = 100;
+    } else if (observed && betp[i] < free_thresh) {
+      value = 0;
+    }
+    out->data[i] = value;
   }
 }
 

@@ -76,9 +76,7 @@ void MapPublisher::publish(const MapSnapshot& snapshot, bool changed) {
 
   if (changed) {
     nav_msgs::OccupancyGrid map;
-    OccupancyRendering pignistic;
-    pignistic.unknown_unobserved = true;
-    toOccupancyGrid(raster, Layer::kPignistic, pignistic, header, &map);
+    toTrinaryOccupancyGrid(raster, occupied_thresh_.load(), free_thresh_.load(), header, &map);
     map_pub_.publish(map);
     metadata_pub_.publish(map.info);
     if (grid_pub_.getNumSubscribers() > 0) {

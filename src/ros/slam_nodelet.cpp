@@ -78,9 +78,17 @@ void SlamNodelet::onInit() {
     NODELET_FATAL("evidential_slam: %s", e.what());
     return;
   }
+  if (!startFromParameters(&why)) {
+    NODELET_FATAL("evidential_slam: %s; the SLAM does not start", why.c_str());
+    worker_.reset();
+    return;
+  }
+
   map_publisher_ = std::make_unique<MapPublisher>(nh_, private_nh_, params_.map_frame,
                                                   [this] { return worker_->latestMap(); });
   map_publisher_->setExternalConflictDisplayMax(params_.external_conflict_display_max);
+  map_publisher_->setThresholds(params_.session.occupied_thresh, params_.session.free_thresh);
+  map_publisher_->requestUpdate();  // a loaded map at once
 
   pose_pub_ = private_nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10, true);
   particles_pub_ = private_nh_.advertise<geometry_msgs::PoseArray>("particles", 10);
@@ -103,6 +111,9 @@ void SlamNodelet::onInit() {
   ros::NodeHandle mt_private_nh = getMTPrivateNodeHandle();
   save_map_srv_ = mt_private_nh.advertiseService("save_map", &SlamNodelet::saveMap, this);
   get_map_srv_ = mt_nh.advertiseService("dynamic_map", &SlamNodelet::getMap, this);
+  load_map_srv_ = mt_private_nh.advertiseService("load_map", &SlamNodelet::loadMap, this);
+  pause_srv_ = mt_private_nh.advertiseService("pause_mapping", &SlamNodelet::pauseMapping, this);
+  reset_srv_ = mt_private_nh.advertiseService("reset", &SlamNodelet::resetSlam, this);
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<EvidentialSlamConfig>>(
       reconfigure_mutex_, private_nh_);
@@ -115,6 +126,9 @@ void SlamNodelet::onInit() {
     tf_timer_ = nh_.createTimer(ros::Duration(params_.transform_publish_period),
                                 &SlamNodelet::publishTransform, this);
   }
+
+  // rviz's "2D Pose Estimate" (amcl's topic).
+  initial_pose_sub_ = nh_.subscribe("initialpose", 2, &SlamNodelet::onInitialPose, this);
 
   scan_sub_ =
       std::make_unique<message_filters::Subscriber<sensor_msgs::LaserScan>>(nh_, "scan", 100);
@@ -257,7 +271,8 @@ void SlamNodelet::onScanHandled(const MappingSession& session, const SessionScan
   }
   ros::Time ros_stamp;
   ros_stamp.fromSec(result.stamp);
-  if (update.processed) reportConflict(result, ros_stamp);
+  // A paused scan adds no conflict: the alarm did not see it.
+  if (update.processed && !session.mappingPaused()) reportConflict(result, ros_stamp);
 
   const PoseEstimate estimate = engine.poseEstimate();
   geometry_msgs::PoseWithCovarianceStamped pose;
@@ -384,6 +399,7 @@ void SlamNodelet::onReconfigure(EvidentialSlamConfig& config, uint32_t) {
     params_ = next;
   }
   map_publisher_->setExternalConflictDisplayMax(next.external_conflict_display_max);
+  map_publisher_->setThresholds(next.session.occupied_thresh, next.session.free_thresh);
   if (interval_changed && map_timer_.isValid()) {
     map_timer_.setPeriod(ros::Duration(next.map_update_interval));
   }
@@ -398,25 +414,22 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
   };
   if (request.directory.empty()) return fail("no directory given");
 
-  EvidentialGridMap grid;
-  std::vector<StampedPose> trajectory;
-  std::vector<ConflictRecord> conflicts;
+  MapSave save;
   SessionConfig config;
   bool have_map = false;
   worker_->runOnWorker([&](const MappingSession& session) {
-    have_map = session.engine().stats().scans_processed > 0;
-    grid = session.engine().bestMap();
-    trajectory = session.engine().bestTrajectory();
-    conflicts = session.conflictLog();
+    have_map = !session.engine().filter().particles().empty();
+    if (!have_map) return;
+    save = captureMapSave(session);
     config = session.parameters().session;
   });
-  if (!have_map) return fail("no map yet: no scan has been processed");
+  if (!have_map) return fail("no map yet: no scan has been processed and no map loaded");
+  save.info.metadata["source"] = "ros:" + nh_.resolveName("scan");
+  save.info.metadata["node"] = getName();
 
   MapFilesReport report;
   std::string error;
-  if (!writeMapFiles(request.directory, grid, trajectory, conflicts, config, &report, &error)) {
-    return fail(error);
-  }
+  if (!writeMapFiles(request.directory, save, config, &report, &error)) return fail(error);
   response.files = report.files;
   response.success = true;
   response.message =
@@ -434,10 +447,175 @@ bool SlamNodelet::getMap(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response&
     std::lock_guard<std::mutex> lock(params_mutex_);
     header.frame_id = params_.map_frame;
   }
-  OccupancyRendering rendering;
-  rendering.unknown_unobserved = true;
-  toOccupancyGrid(extractLayers(*snapshot.grid), Layer::kPignistic, rendering, header,
-                  &response.map);
+  double occupied = 0.0, free = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    occupied = params_.session.occupied_thresh;
+    free = params_.session.free_thresh;
+  }
+  toTrinaryOccupancyGrid(extractLayers(*snapshot.grid), occupied, free, header, &response.map);
+  return true;
+}
+
+bool SlamNodelet::startFromParameters(std::string* why) {
+  // amcl's names; any of the three set on the parameter server counts as given.
+  const bool pose_given = private_nh_.hasParam("initial_pose_x") ||
+                          private_nh_.hasParam("initial_pose_y") ||
+                          private_nh_.hasParam("initial_pose_a");
+  const Pose2 initial_pose(params_.initial_pose_x, params_.initial_pose_y, params_.initial_pose_a);
+  if (params_.map_file.empty()) {
+    if (!pose_given) return true;
+    if (startOnMap(EvidentialGridMap(params_.slam.resolution), initial_pose, nullptr, why)) {
+      return true;
+    }
+    *why = "initial_pose_*: " + *why;
+    return false;
+  }
+  LoadedMap loaded;
+  if (!loadMapFile(params_.map_file, &loaded, why)) {
+    *why = "map_file: " + *why;
+    return false;
+  }
+  const Pose2 start = pose_given ? initial_pose : loaded.info.robot_pose;
+  if (!startOnMap(loaded.map, start, nullptr, why)) {
+    *why = "map_file: " + *why;
+    return false;
+  }
+  NODELET_INFO("evidential_slam: continuing on %s (%zu tiles) at (%.3f, %.3f, %.3f), %s",
+               loaded.path.c_str(), loaded.map.allocatedTiles(), start.x, start.y, start.theta,
+               pose_given ? "initial_pose_*" : "the pose saved in the file");
+  return true;
+}
+
+bool SlamNodelet::currentOdometry(Pose2* odometry) {
+  std::string odom_frame, base_frame;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    odom_frame = params_.odom_frame;
+    base_frame = params_.base_frame;
+  }
+  try {
+    *odometry = pose2FromTransform(
+        tf_buffer_->lookupTransform(odom_frame, base_frame, ros::Time(0)).transform);
+    return true;
+  } catch (const tf2::TransformException&) {
+    return false;
+  }
+}
+
+bool SlamNodelet::startOnMap(const EvidentialGridMap& map, const Pose2& pose,
+                             const Pose2* odometry, std::string* why) {
+  bool ok = false;
+  double resolution = 0.0;
+  worker_->changeOnWorker(
+      [&](MappingSession& session) {
+        ok = session.startFromMap(map, pose, why, odometry);
+        resolution = session.parameters().slam.resolution;
+      },
+      true);
+  if (!ok) return false;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    params_.slam.resolution = resolution;
+  }
+  std::lock_guard<std::mutex> lock(transform_mutex_);
+  have_transform_ = odometry != nullptr;
+  if (have_transform_) map_to_odom_ = pose.compose(odometry->inverse());
+  if (map_publisher_) map_publisher_->requestUpdate();
+  return true;
+}
+
+void SlamNodelet::onInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
+  std::string map_frame;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    map_frame = params_.map_frame;
+  }
+  // rviz sends it in its fixed frame: anything but the map frame is brought into it through tf.
+  Pose2 pose = pose2FromPoseMsg(msg->pose.pose);
+  const std::string& frame = msg->header.frame_id;
+  if (!frame.empty() && frame != map_frame) {
+    try {
+      const Pose2 frame_in_map =
+          pose2FromTransform(tf_buffer_->lookupTransform(map_frame, frame, ros::Time(0)).transform);
+      pose = frame_in_map.compose(pose);
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN("initialpose in frame '%s' ignored: no transform to '%s' (%s)", frame.c_str(),
+                   map_frame.c_str(), e.what());
+      return;
+    }
+  }
+  Pose2 odometry;
+  const bool have_odometry = currentOdometry(&odometry);
+  std::string why;
+  bool ok = false;
+  EvidentialGridMap map;
+  worker_->runOnWorker([&](const MappingSession& session) { map = session.currentMap(); });
+  ok = startOnMap(map, pose, have_odometry ? &odometry : nullptr, &why);
+  if (!ok) {
+    NODELET_WARN("initialpose (%.3f, %.3f, %.3f) ignored: %s", pose.x, pose.y, pose.theta,
+                 why.c_str());
+    return;
+  }
+  NODELET_INFO("initialpose: the SLAM starts over on its current map (%zu tiles) at (%.3f, %.3f, "
+               "%.3f)",
+               map.allocatedTiles(), pose.x, pose.y, pose.theta);
+}
+
+bool SlamNodelet::loadMap(LoadMap::Request& request, LoadMap::Response& response) {
+  response.success = false;
+  LoadedMap loaded;
+  std::string why;
+  if (request.path.empty()) {
+    why = "no path given";
+  } else if (loadMapFile(request.path, &loaded, &why)) {
+    const Pose2 pose = request.use_pose
+                           ? Pose2(request.pose.x, request.pose.y, request.pose.theta)
+                           : loaded.info.robot_pose;
+    Pose2 odometry;
+    const bool have_odometry = currentOdometry(&odometry);
+    if (startOnMap(loaded.map, pose, have_odometry ? &odometry : nullptr, &why)) {
+      char text[256];
+      std::snprintf(text, sizeof(text), "continuing on %s (%zu tiles, %g m cells) at (%.3f, %.3f, "
+                    "%.3f)%s",
+                    loaded.path.c_str(), loaded.map.allocatedTiles(), loaded.map.resolution(),
+                    pose.x, pose.y, pose.theta,
+                    request.use_pose ? "" : " (the pose saved in the file)");
+      response.success = true;
+      response.message = text;
+      NODELET_INFO("load_map: %s", text);
+      return true;
+    }
+  }
+  response.message = why;
+  NODELET_ERROR("load_map: %s", why.c_str());
+  return true;  // the call itself worked; `success` says the load did not
+}
+
+bool SlamNodelet::pauseMapping(std_srvs::SetBool::Request& request,
+                               std_srvs::SetBool::Response& response) {
+  const bool pause = request.data;
+  worker_->changeOnWorker([pause](MappingSession& session) { session.setMappingPaused(pause); },
+                          false);
+  response.success = true;
+  response.message = pause ? "mapping paused: scans localize on the map, which stays as it is"
+                           : "mapping resumed";
+  NODELET_INFO("pause_mapping: %s", response.message.c_str());
+  return true;
+}
+
+bool SlamNodelet::resetSlam(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  worker_->changeOnWorker(
+      [](MappingSession& session) {
+        session.setMappingPaused(false);
+        session.startOver();
+      },
+      true);
+  {
+    std::lock_guard<std::mutex> lock(transform_mutex_);
+    have_transform_ = false;
+  }
+  NODELET_INFO("reset: the SLAM starts over with no map");
   return true;
 }
 

@@ -44,18 +44,37 @@ bool SlamWorker::reconfigure(const Parameters& params, std::string* why) {
   return true;
 }
 
-void SlamWorker::runOnWorker(const std::function<void(const MappingSession& session)>& task) {
+void SlamWorker::runTask(const std::function<void()>& task) {
   auto done = std::make_shared<std::promise<void>>();
   std::future<void> finished = done->get_future();
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    tasks_.push_back([this, &task, done] {
-      task(session_);
+    tasks_.push_back([&task, done] {
+      task();
       done->set_value();
     });
   }
   wake_.notify_one();
   finished.wait();
+}
+
+void SlamWorker::runOnWorker(const std::function<void(const MappingSession& session)>& task) {
+  runTask([&] { task(session_); });
+}
+
+void SlamWorker::changeOnWorker(const std::function<void(MappingSession& session)>& change,
+                                bool map_changed) {
+  runTask([&] {
+    change(session_);
+    if (!map_changed) return;
+    std::shared_ptr<const EvidentialGridMap> grid;
+    if (!session_.engine().filter().particles().empty()) {
+      grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    map_.grid = std::move(grid);
+    ++map_.version;
+  });
 }
 
 MapSnapshot SlamWorker::latestMap() const {

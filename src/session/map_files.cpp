@@ -1,5 +1,6 @@
 #include "evidential_slam/session/map_files.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -48,22 +49,49 @@ bool writeConflictCsv(const std::string& path, const std::vector<ConflictRecord>
 
 }  // namespace
 
-bool writeMapFiles(const std::string& dir, const EvidentialGridMap& map,
-                   const std::vector<StampedPose>& trajectory,
-                   const std::vector<ConflictRecord>& conflicts, const SessionConfig& config,
+MapSave captureMapSave(const MappingSession& session) {
+  const SlamEngine& engine = session.engine();
+  MapSave save;
+  save.map = engine.bestMap();
+  save.trajectory = engine.bestTrajectory();
+  save.conflicts = session.conflictLog();
+  save.info.robot_pose = engine.bestPose();
+  save.info.has_odometry_pose = engine.stats().scans_received > 0;
+  save.info.odometry_pose = engine.lastOdometry();
+  for (const auto& [name, value] : parameterValues(session.parameters())) {
+    save.info.parameters[name] = value;
+  }
+  save.info.metadata["scans_received"] = std::to_string(engine.stats().scans_received);
+  save.info.metadata["scans_processed"] = std::to_string(engine.stats().scans_processed);
+  if (!save.trajectory.empty()) {
+    char stamp[40];
+    std::snprintf(stamp, sizeof(stamp), "%.6f", save.trajectory.back().stamp);
+    save.info.metadata["stamp"] = stamp;
+  }
+  save.info.metadata["mapping_paused"] = session.mappingPaused() ? "true" : "false";
+  return save;
+}
+
+bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionConfig& config,
                    MapFilesReport* report, std::string* error) {
   *report = MapFilesReport();
   const fs::path root(dir);
   const fs::path layers_dir = root / "layers";
   if (!makeDirectory(layers_dir, error)) return false;
 
+  // The lossless map first: it is what a later run continues from.
+  const std::string evmap = (root / io::kMapFileName).string();
+  if (!io::writeMapFile(evmap, save.map, save.info, error, &report->map_file_stats)) return false;
+  report->files.push_back(evmap);
+  report->map_file = evmap;
   const std::string tum = (root / "trajectory.tum").string();
-  if (!io::writeTumTrajectory(tum, trajectory, error)) return false;
+  if (!io::writeTumTrajectory(tum, save.trajectory, error)) return false;
   report->files.push_back(tum);
   const std::string csv = (root / "conflict.csv").string();
-  if (!writeConflictCsv(csv, conflicts, error)) return false;
+  if (!writeConflictCsv(csv, save.conflicts, error)) return false;
   report->files.push_back(csv);
 
+  const EvidentialGridMap& map = save.map;
   const LayerRaster raster = extractLayers(map);
   io::LayerWriterConfig layer_config;
   layer_config.occupied_thresh = config.occupied_thresh;
@@ -100,6 +128,14 @@ bool writeMapFiles(const std::string& dir, const EvidentialGridMap& map,
     octomap.voxels = result.voxels;
     report->octomap = octomap;
   }
+  return true;
+}
+
+bool loadMapFile(const std::string& path, LoadedMap* out, std::string* error) {
+  LoadedMap loaded;
+  loaded.path = io::resolveMapFilePath(path);
+  if (!io::readMapFile(loaded.path, &loaded.map, &loaded.info, error)) return false;
+  *out = std::move(loaded);
   return true;
 }
 

@@ -56,6 +56,10 @@ class Run {
     if (progress_) progress_->clearLine();
     std::fprintf(err_, "warning: %s\n", message.c_str());
   }
+  // Starts `session` on the loaded map (or an empty one) at --initial-pose or the saved pose.
+  bool startSession(MappingSession* session, const LoadedMap& loaded, const std::string& source,
+                    std::string* why);
+
   const OfflineOptions& opt_;
   std::FILE* out_;
   std::FILE* err_;
@@ -66,6 +70,46 @@ class Run {
   std::vector<StampedPose> odometry_path_;
   fs::path out_dir_;
 };
+
+bool Run::startSession(MappingSession* session, const LoadedMap& loaded, const std::string& source,
+                       std::string* why) {
+  StartSummary start;
+  const bool have_map = !loaded.path.empty();
+  const EvidentialGridMap empty(opt_.params.slam.resolution);
+  const EvidentialGridMap& map = have_map ? loaded.map : empty;
+  Pose2 pose = opt_.initial_pose;
+  start.pose_from = "--initial-pose";
+  // The saved odometry pose places the first scan only when this run continues the log the map
+  // was made from: the same odometry frame (map_file.h).
+  const Pose2* anchor = nullptr;
+  if (have_map && !opt_.has_initial_pose) {
+    pose = loaded.info.robot_pose;
+    start.pose_from = "map file";
+    const auto saved_source = loaded.info.metadata.find("source");
+    if (loaded.info.has_odometry_pose && saved_source != loaded.info.metadata.end() &&
+        saved_source->second == source) {
+      anchor = &loaded.info.odometry_pose;
+    }
+  }
+  if (have_map && std::abs(map.resolution() - opt_.params.slam.resolution) > 1e-9) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "the loaded map's resolution (%g m) replaces %g m",
+                  map.resolution(), opt_.params.slam.resolution);
+    warn(text);
+  }
+  if (!session->startFromMap(map, pose, why, anchor)) {
+    *why = (have_map ? loaded.path + ": " : std::string("--initial-pose: ")) + *why;
+    return false;
+  }
+  start.map_file = loaded.path;
+  start.map_tiles = map.allocatedTiles();
+  start.x = pose.x;
+  start.y = pose.y;
+  start.theta = pose.theta;
+  start.odometry_anchored = anchor != nullptr;
+  summary_.start = start;
+  return true;
+}
 
 int Run::execute() {
   const auto t0 = std::chrono::steady_clock::now();
@@ -89,6 +133,10 @@ int Run::execute() {
   if (!opt_.ground_truth.empty() && !readGroundTruth(opt_.ground_truth, &truth_, &why)) {
     return fail(kExitBadInput, why);
   }
+  LoadedMap loaded;
+  if (!opt_.load_map.empty() && !loadMapFile(opt_.load_map, &loaded, &why)) {
+    return fail(kExitBadInput, why);
+  }
 
   // Pre-pass: early, clear errors and the total for the progress line.
   RawlogReaderConfig reader_config;
@@ -110,6 +158,11 @@ int Run::execute() {
     return fail(kExitBadInput, "no scan in '" + opt_.rawlog + "' has odometry near its time");
   }
   summary_.rawlog_format = toString(survey.format);
+  if (opt_.first_scan >= survey.counts.scans_emitted) {
+    return fail(kExitBadInput, "--first-scan " + std::to_string(opt_.first_scan) + ": '" +
+                                   opt_.rawlog + "' has " +
+                                   std::to_string(survey.counts.scans_emitted) + " usable scans");
+  }
 
   out_dir_ = opt_.out_dir;
   std::error_code ec;
@@ -122,17 +175,28 @@ int Run::execute() {
   RawlogReader reader(reader_config);
   if (!reader.open(opt_.rawlog, &why)) return fail(kExitBadInput, why);
 
-  uint64_t total = survey.counts.scans_emitted;
+  uint64_t total = survey.counts.scans_emitted - opt_.first_scan;
   if (opt_.max_scans > 0 && opt_.max_scans < total) total = opt_.max_scans;
   if (!opt_.quiet) progress_ = std::make_unique<ProgressBar>(err_, total, tty_);
 
   auto session = std::make_unique<MappingSession>(opt_.params);
+  const std::string source = fs::weakly_canonical(fs::path(opt_.rawlog), ec).string();
+  if (!opt_.load_map.empty() || opt_.has_initial_pose) {
+    if (!startSession(session.get(), loaded, source, &why)) return fail(kExitBadInput, why);
+  }
   RawlogScan item;
   RawlogReader::Status status = RawlogReader::Status::kEnd;
+  uint64_t skipped = 0;
+  while (skipped < opt_.first_scan &&
+         (status = reader.next(&item)) == RawlogReader::Status::kScan) {
+    ++skipped;
+  }
+  summary_.first_scan = skipped;
   uint64_t given = 0;
   double slam_s = 0.0;
   bool stopped_early = false;
-  while ((status = reader.next(&item)) == RawlogReader::Status::kScan) {
+  while (skipped == opt_.first_scan &&
+         (status = reader.next(&item)) == RawlogReader::Status::kScan) {
     if (opt_.max_scans > 0 && given >= opt_.max_scans) {
       stopped_early = true;
       break;
@@ -178,6 +242,8 @@ int Run::execute() {
   if (stopped_early) {
     summary_.warnings.push_back("stopped after --max-scans " + std::to_string(opt_.max_scans));
   }
+  summary_.resolution = session->parameters().slam.resolution;
+  summary_.parameter_values = parameterValues(session->parameters());
   summary_.scans_total = given;
   summary_.scans_processed = stats.scans_processed;
   summary_.scans_rejected = stats.scans_rejected;
@@ -197,11 +263,14 @@ int Run::execute() {
   // The outputs need the best particle only. Its path and map (a copy sharing its tiles) are kept
   // and the filter is released before the layers' rasters are allocated, with the freed memory
   // handed back to the system, so writing them does not add to the run's peak memory.
-  const std::vector<StampedPose> best_path = session->engine().bestTrajectory();
-  const EvidentialGridMap best_map = session->engine().bestMap();
-  const std::vector<ConflictRecord> conflicts = session->conflictLog();
+  MapSave save = captureMapSave(*session);
   session.reset();
   releaseFreeHeapMemory();
+  save.info.metadata["source"] = source;
+  save.info.metadata["first_scan"] = std::to_string(opt_.first_scan);
+  save.info.metadata["next_scan"] = std::to_string(opt_.first_scan + given);
+  if (!loaded.path.empty()) save.info.metadata["loaded_map"] = loaded.path;
+  const std::vector<StampedPose>& best_path = save.trajectory;
 
   if (!truth_.empty()) {
     AteResult ate;
@@ -216,10 +285,11 @@ int Run::execute() {
   }
 
   MapFilesReport files;
-  if (!writeMapFiles(out_dir_.string(), best_map, best_path, conflicts, opt_.params.session,
-                     &files, &why)) {
+  if (!writeMapFiles(out_dir_.string(), save, opt_.params.session, &files, &why)) {
     return fail(kExitBadInput, why);
   }
+  summary_.map_file = MapFileSummary{fs::path(files.map_file).lexically_relative(out_dir_).string(),
+                                     files.map_file_stats.file_bytes, files.map_file_stats.tiles};
   for (const std::string& f : files.files) {
     summary_.outputs.push_back(fs::path(f).lexically_relative(out_dir_).string());
   }
@@ -263,6 +333,9 @@ int Run::execute() {
     }
     std::fprintf(out_, "\n");
   }
+  std::fprintf(out_, "map file:   %s (%.2f MB, %llu tiles)\n", files.map_file.c_str(),
+               static_cast<double>(files.map_file_stats.file_bytes) / 1e6,
+               static_cast<unsigned long long>(files.map_file_stats.tiles));
   std::fprintf(out_, "trajectory: %s\n", (out_dir_ / "trajectory.tum").string().c_str());
   std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, PGM, map.yaml)\n",
                (out_dir_ / "layers").string().c_str(), summary_.map_width, summary_.map_height);
@@ -295,12 +368,14 @@ std::string offlineUsage(const std::string& program) {
   return "usage: " + program +
          " --rawlog FILE --out DIR [--ground-truth GT.txt] [--config FILE]...\n"
          "       [--preset NAME] [--param NAME=VALUE]... [--particles K] [--seed N]\n"
-         "       [--resolution M] [--threads N] [--max-scans N] [--laser-label L] [--quiet]\n"
+         "       [--resolution M] [--threads N] [--first-scan N] [--max-scans N]\n"
+         "       [--load-map DIR|FILE] [--initial-pose X,Y,YAW] [--laser-label L] [--quiet]\n"
          "       [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
          "\n"
          "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
-         "Writes DIR/trajectory.tum, DIR/conflict.csv, DIR/layers/ (every layer as PNG, NPY\n"
-         "and map_server PGM + YAML) and DIR/summary.json.\n"
+         "Writes DIR/map.evmap (the lossless map, for --load-map), DIR/trajectory.tum,\n"
+         "DIR/conflict.csv, DIR/layers/ (every layer as PNG, NPY and map_server PGM + YAML)\n"
+         "and DIR/summary.json.\n"
          "\n"
          "  --rawlog FILE         input rawlog (.rawlog, gzip or plain)\n"
          "  --out DIR             output directory (created)\n"
@@ -314,7 +389,12 @@ std::string offlineUsage(const std::string& program) {
          "  --seed N              = --param seed=N (default 1)\n"
          "  --resolution M        = --param resolution=M, metres per cell (default 0.05)\n"
          "  --threads N           = --param threads=N, 0 = all cores (default 0)\n"
-         "  --max-scans N         stop after N scans\n"
+         "  --first-scan N        pass over the log's first N scans (0 = start at the first)\n"
+         "  --max-scans N         stop after N scans (counted from --first-scan)\n"
+         "  --load-map PATH       continue mapping on a saved map: a map.evmap file or the\n"
+         "                        directory holding it (another run's --out, a node's save_map)\n"
+         "  --initial-pose X,Y,YAW  the first scan's pose in the map frame (m, m, rad); default\n"
+         "                        with --load-map: the pose saved in the map file\n"
          "  --laser-label L       use only scans with this sensor label\n"
          "  --quiet               no progress line and no warnings on stderr\n"
          "  --export-octomap      = --param export_octomap=true: also write\n"
@@ -325,6 +405,26 @@ std::string offlineUsage(const std::string& program) {
          "Exit codes: 0 success (also a truncated log), 1 bad usage, parameters or parameter\n"
          "files, 2 unusable input or unwritable output, 3 internal error.\n";
 }
+
+namespace {
+
+// "x,y,yaw": three finite numbers.
+bool parsePose(const std::string& text, Pose2* pose) {
+  double v[3];
+  size_t start = 0;
+  for (int i = 0; i < 3; ++i) {
+    const size_t comma = i < 2 ? text.find(',', start) : text.size();
+    if (comma == std::string::npos) return false;
+    if (!parseNumber(text.substr(start, comma - start), &v[i]) || !std::isfinite(v[i])) {
+      return false;
+    }
+    start = comma + 1;
+  }
+  *pose = Pose2(v[0], v[1], v[2]);
+  return true;
+}
+
+}  // namespace
 
 bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, bool* help,
                       std::string* error) {
@@ -338,9 +438,9 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       {"--particles", "particles"},         {"--seed", "seed"},
       {"--resolution", "resolution"},       {"--threads", "threads"},
       {"--octomap-z-min", "octomap_z_min"}, {"--octomap-z-max", "octomap_z_max"}};
-  static const char* const kValued[] = {"--rawlog",    "--out",       "--ground-truth",
-                                        "--config",    "--preset",    "--param",
-                                        "--max-scans", "--laser-label"};
+  static const char* const kValued[] = {
+      "--rawlog",    "--out",         "--ground-truth", "--config",     "--preset",     "--param",
+      "--max-scans", "--laser-label", "--first-scan",   "--load-map",   "--initial-pose"};
   for (size_t i = 0; i < args.size(); ++i) {
     const CommandLineArg arg = splitArg(args[i]);
     const std::string& flag = arg.flag;
@@ -390,6 +490,18 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       uint64_t n = 0;
       if (!parseNumber(value, &n) || n == 0) return bad("--max-scans wants an integer >= 1");
       o->max_scans = n;
+    } else if (flag == "--first-scan") {
+      uint64_t n = 0;
+      if (!parseNumber(value, &n)) return bad("--first-scan wants an integer >= 0");
+      o->first_scan = n;
+    } else if (flag == "--load-map") {
+      if (value.empty()) return bad("--load-map wants a map file or a directory");
+      o->load_map = value;
+    } else if (flag == "--initial-pose") {
+      if (!parsePose(value, &o->initial_pose)) {
+        return bad("--initial-pose wants X,Y,YAW (three finite numbers: m, m, rad)");
+      }
+      o->has_initial_pose = true;
     } else if (flag == "--param") {
       const size_t eq = value.find('=');
       if (eq == std::string::npos || eq == 0) return bad("--param wants NAME=VALUE");

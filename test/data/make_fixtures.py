@@ -9,6 +9,10 @@ What it makes and why:
                     ~0.7 m ATE RMSE).
   sim_obs.rawlog    the same log in the observation-only format (scan, then CObservationOdometry).
   sim.GT.txt        the true pose of every scan, `t x y phi`, same timestamps as the scans.
+  sim_first_half.evmap  the map file of sim.rawlog's first 80 scans, written by
+                    evidential_slam_offline (--preset sim, K = 20, seed 3): the map the node
+                    starts on in test/ros/slam_map_file.test. `--map-only` remakes just this one
+                    from the committed sim.rawlog (after a change of the map file's format).
 The intermediate .gridmap.gz and pose list are written to a temporary directory.
 
 simul-gridmap writes zero odometry increments and no MRPT tool converts between the two rawlog
@@ -22,7 +26,8 @@ except the first, so the script remaps the stamps to start at 1000 s, 0.2 s apar
 come from simul-gridmap's unseeded generator and the wall clock, so regenerating changes the
 rawlog's bytes, not its character.
 
-Usage: test/data/make_fixtures.py FIXTURE_TOOL [OUT_DIR]   (default: the directory of this script)
+Usage: test/data/make_fixtures.py [--map-only] FIXTURE_TOOL [OUT_DIR]   (default OUT_DIR: the
+  directory of this script; evidential_slam_offline is looked for beside FIXTURE_TOOL)
   e.g. test/data/make_fixtures.py ~/ws/devel/lib/evidential_slam/evidential_slam_fixture_tool
 Needs: mrpt-apps (image2gridmap, simul-gridmap, rawlog-edit) on PATH.
 """
@@ -120,12 +125,30 @@ def run(*cmd):
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 
 
+def make_map_file(offline, out_dir):
+    """sim_first_half.evmap: the offline runner's map file of sim.rawlog's first 80 scans."""
+    with tempfile.TemporaryDirectory() as tmp:
+        run(offline, "--rawlog", os.path.join(out_dir, "sim.rawlog"), "--out", tmp, "--preset",
+            "sim", "--particles", "20", "--seed", "3", "--threads", "2", "--max-scans", "80",
+            "--quiet")
+        target = os.path.join(out_dir, "sim_first_half.evmap")
+        os.replace(os.path.join(tmp, "map.evmap"), target)
+    print("wrote %s" % target)
+
+
 def main():
-    if len(sys.argv) < 2 or not os.access(sys.argv[1], os.X_OK):
+    args = sys.argv[1:]
+    map_only = "--map-only" in args
+    args = [a for a in args if a != "--map-only"]
+    if not args or not os.access(args[0], os.X_OK):
         sys.exit(__doc__)
-    tool = os.path.abspath(sys.argv[1])
-    out_dir = os.path.abspath(sys.argv[2] if len(sys.argv) > 2 else os.path.dirname(__file__))
+    tool = os.path.abspath(args[0])
+    offline = os.path.join(os.path.dirname(tool), "evidential_slam_offline")
+    out_dir = os.path.abspath(args[1] if len(args) > 1 else os.path.dirname(__file__))
     os.makedirs(out_dir, exist_ok=True)
+    if map_only:
+        make_map_file(offline, out_dir)
+        return
     map_png = os.path.join(out_dir, "sim_map.png")
     write_png(map_png, draw_map())
     poses = trajectory()
@@ -168,6 +191,7 @@ def main():
         run(tool, "add-odometry", stamped, rawlog, gt, "1")
         run(tool, "to-observations", rawlog, os.path.join(out_dir, "sim_obs.rawlog"))
     print("wrote %s, %s and sim_obs.rawlog (%d scans), %s" % (map_png, rawlog, len(stamps), gt))
+    make_map_file(offline, out_dir)
 
 
 if __name__ == "__main__":

@@ -14,15 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/io/ground_truth.h"
-#include "evidential_slam/io/layer_writer.h"
 #include "evidential_slam/io/map_file.h"
 #include "evidential_slam/io/parameter_file.h"
 #include "evidential_slam/io/rawlog_reader.h"
 #include "evidential_slam/session/session.h"
+#include "map_compare.h"
 #include "test_util.h"
 
 namespace evidential_slam {
@@ -58,31 +57,6 @@ std::vector<io::RawlogScan> readFixture() {
 void feed(MappingSession* session, const std::vector<io::RawlogScan>& scans, size_t from,
           size_t to) {
   for (size_t i = from; i < to; ++i) session->processScan(scans[i].odometry, scans[i].scan);
-}
-
-// 0 free, 1 unknown, 2 occupied.
-int betpClass(const Cell& c, const io::LayerWriterConfig& t) {
-  const double p = pignistic(c);
-  return p > t.occupied_thresh ? 2 : p < t.free_thresh ? 0 : 1;
-}
-
-// Fraction of the cells observed in either map whose class agrees, and how many were compared.
-double classAgreement(const EvidentialGridMap& a, const EvidentialGridMap& b, size_t* compared) {
-  const io::LayerWriterConfig thresholds;
-  CellBox box = a.observedBox();
-  box.extend(b.observedBox());
-  size_t same = 0, n = 0;
-  for (int y = box.min_y; y <= box.max_y; ++y) {
-    for (int x = box.min_x; x <= box.max_x; ++x) {
-      const Cell& ca = a.cell(x, y);
-      const Cell& cb = b.cell(x, y);
-      if (!ca.observed() && !cb.observed()) continue;
-      ++n;
-      if (betpClass(ca, thresholds) == betpClass(cb, thresholds)) ++same;
-    }
-  }
-  *compared = n;
-  return n == 0 ? 0.0 : static_cast<double>(same) / static_cast<double>(n);
 }
 
 double ate(const std::vector<StampedPose>& path) {
@@ -139,7 +113,7 @@ void twoHalves(bool anchored) {
   const double ate_halves = ate(halves);
   size_t compared = 0;
   const double agreement =
-      classAgreement(whole.engine().bestMap(), second.engine().bestMap(), &compared);
+      test::classAgreement(whole.engine().bestMap(), second.engine().bestMap(), &compared);
   std::printf("%s: ATE one go %.4f m, two halves %.4f m; BetP class agreement %.4f of %zu cells\n",
               anchored ? "with the saved odometry" : "at the saved pose", ate_whole, ate_halves,
               agreement, compared);

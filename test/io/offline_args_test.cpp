@@ -47,7 +47,12 @@ TEST(OfflineArgs, ParsesEveryOption) {
                      "--export-octomap",
                      "--octomap-z-min",
                      "-0.5",
-                     "--octomap-z-max=1.5"},
+                     "--octomap-z-max=1.5",
+                     "--first-scan",
+                     "12",
+                     "--load-map",
+                     "saved/",
+                     "--initial-pose=1.5,-2,0.25"},
                     &o, &error))
       << error;
   EXPECT_EQ(o.rawlog, "a.rawlog");
@@ -63,6 +68,12 @@ TEST(OfflineArgs, ParsesEveryOption) {
   EXPECT_TRUE(o.params.session.export_octomap);
   EXPECT_DOUBLE_EQ(o.params.session.octomap_z_min, -0.5);
   EXPECT_DOUBLE_EQ(o.params.session.octomap_z_max, 1.5);
+  EXPECT_EQ(o.first_scan, 12u);
+  EXPECT_EQ(o.load_map, "saved/");
+  EXPECT_TRUE(o.has_initial_pose);
+  EXPECT_DOUBLE_EQ(o.initial_pose.x, 1.5);
+  EXPECT_DOUBLE_EQ(o.initial_pose.y, -2.0);
+  EXPECT_DOUBLE_EQ(o.initial_pose.theta, 0.25);
 }
 
 TEST(OfflineArgs, DefaultsAreTheCoreDefaults) {
@@ -194,6 +205,13 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
       {"--rawlog", "a", "--out", "b", "--param", "map_frame=world"},  // the node's only
       {"--rawlog", "a", "--out", "b", "--param", "free_thresh=0.9"},  // above occupied_thresh
       {"--rawlog", "a", "--out", "b", "--param"},
+      {"--rawlog", "a", "--out", "b", "--first-scan", "-1"},
+      {"--rawlog", "a", "--out", "b", "--first-scan", "x"},
+      {"--rawlog", "a", "--out", "b", "--load-map", ""},
+      {"--rawlog", "a", "--out", "b", "--initial-pose", "1,2"},
+      {"--rawlog", "a", "--out", "b", "--initial-pose", "1,2,3,4"},
+      {"--rawlog", "a", "--out", "b", "--initial-pose", "1,nan,0"},
+      {"--rawlog", "a", "--out", "b", "--initial-pose", "1, 2, 0"},
   };
   for (const auto& args : bad) {
     OfflineOptions o;

@@ -12,6 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "evidential_slam/core/measures.h"
+#include "evidential_slam/core/metrics.h"
+#include "evidential_slam/io/ground_truth.h"
+#include "evidential_slam/io/map_file.h"
 #include "evidential_slam/io/npy.h"
 #include "evidential_slam/io/trajectory_io.h"
 #include "rawlog_fixtures.h"
@@ -77,6 +80,7 @@ void checkOutputs(const fs::path& out, int scans) {
     }
   }
   EXPECT_TRUE(fs::is_regular_file(out / "conflict.csv"));
+  EXPECT_TRUE(fs::is_regular_file(out / "map.evmap"));
   EXPECT_TRUE(fs::is_regular_file(layers / "composite.png"));
   EXPECT_TRUE(fs::is_regular_file(layers / "observed.npy"));
   EXPECT_TRUE(fs::is_regular_file(layers / "map.yaml"));
@@ -344,6 +348,105 @@ TEST_F(OfflineE2E, MaxScans) {
   EXPECT_EQ(r.err.find('\r'), std::string::npos);
   EXPECT_GE(lineCount(r.err), 5);
   checkOutputs(out, 40);
+}
+
+double ateOf(const std::vector<StampedPose>& path) {
+  std::vector<StampedPose> truth;
+  std::string error;
+  EXPECT_TRUE(io::readGroundTruth(dataPath("sim.GT.txt"), &truth, &error)) << error;
+  AteResult ate;
+  EXPECT_TRUE(computeAte(path, truth, 0.05, &ate, &error)) << error;
+  EXPECT_EQ(ate.matched, path.size());
+  return ate.rmse;
+}
+
+std::vector<StampedPose> trajectoryOf(const fs::path& out) {
+  std::vector<StampedPose> path;
+  std::string error;
+  EXPECT_TRUE(io::readTumTrajectory((out / "trajectory.tum").string(), &path, &error)) << error;
+  return path;
+}
+
+// The fixture in two slices: scans 0-79 saved with --out, then --first-scan 80 --load-map on that
+// directory (the same log: the saved odometry pose places scan 80). The map file lists the run's
+// parameters and where it came from; the second run starts on its tiles.
+TEST_F(OfflineE2E, ContinuesMappingOnASavedMap) {
+  const fs::path first = scratch_ / "first", second = scratch_ / "second";
+  Result r = runOffline(
+      concat({"--rawlog", dataPath("sim.rawlog"), "--out", first.string(), "--max-scans", "80"},
+             kFast),
+      scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("map.evmap"), std::string::npos) << r.out;
+  auto j = summaryOf(first);
+  EXPECT_EQ(j["map_file"]["path"], "map.evmap");
+  EXPECT_GT(j["map_file"]["tiles"].get<int>(), 10);
+  bool listed = false;
+  for (const auto& f : j["outputs"]) listed |= f == "map.evmap";
+  EXPECT_TRUE(listed);
+  EvidentialGridMap saved;
+  io::MapFileInfo info;
+  std::string error;
+  ASSERT_TRUE(io::readMapFile((first / "map.evmap").string(), &saved, &info, &error)) << error;
+  EXPECT_EQ(info.parameters.at("particles"), "20");
+  EXPECT_EQ(info.parameters.at("seed"), "3");
+  EXPECT_EQ(info.parameters.count("likelihood_temperature"), 1u);
+  EXPECT_EQ(info.metadata.at("next_scan"), "80");
+  EXPECT_EQ(info.metadata.at("source"), fs::weakly_canonical(dataPath("sim.rawlog")).string());
+  EXPECT_TRUE(info.has_odometry_pose);
+  const std::vector<StampedPose> first_path = trajectoryOf(first);
+  ASSERT_EQ(first_path.size(), 80u);
+  EXPECT_NEAR(info.robot_pose.x, first_path.back().pose.x, 1e-6);  // trajectory.tum has 6 decimals
+  EXPECT_NEAR(info.robot_pose.y, first_path.back().pose.y, 1e-6);
+
+  r = runOffline(concat({"--rawlog", dataPath("sim.rawlog"), "--out", second.string(),
+                         "--first-scan", "80", "--load-map", first.string()},
+                        kFast),
+                 scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = summaryOf(second);
+  EXPECT_EQ(j["first_scan"], 80);
+  EXPECT_EQ(j["scans_total"], kFixtureScans - 80);
+  EXPECT_EQ(j["start"]["map_file"], (first / "map.evmap").string());
+  EXPECT_EQ(j["start"]["pose_from"], "map file");
+  EXPECT_EQ(j["start"]["odometry_anchored"], true);
+  EXPECT_EQ(j["start"]["map_tiles"].get<size_t>(), saved.allocatedTiles());
+  checkOutputs(second, kFixtureScans - 80);
+  std::vector<StampedPose> halves = first_path;
+  for (const StampedPose& p : trajectoryOf(second)) halves.push_back(p);
+  EXPECT_LT(ateOf(halves), 0.15);
+
+  // The whole log again on that map, from its first scan at the map frame's origin: no saved
+  // odometry pose then.
+  const fs::path again = scratch_ / "again";
+  r = runOffline(concat({"--rawlog", dataPath("sim.rawlog"), "--out", again.string(), "--load-map",
+                         (first / "map.evmap").string(), "--initial-pose", "0,0,0"},
+                        kFast),
+                 scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = summaryOf(again);
+  EXPECT_EQ(j["start"]["pose_from"], "--initial-pose");
+  EXPECT_EQ(j["start"]["odometry_anchored"], false);
+  EXPECT_LT(ateOf(trajectoryOf(again)), 0.15);
+}
+
+// A missing or damaged map, a first scan beyond the log: exit 2 with one line naming the problem.
+TEST_F(OfflineE2E, BadMapsAndSlices) {
+  const std::vector<std::string> base = {"--rawlog", dataPath("sim.rawlog"), "--out",
+                                         (scratch_ / "o").string()};
+  Result r = runOffline(concat(base, {"--load-map", (scratch_ / "nowhere").string()}), scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
+  test::writeText(scratch_ / "map.evmap", "not a map");
+  r = runOffline(concat(base, {"--load-map", scratch_.string()}), scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("map.evmap"), std::string::npos) << r.err;
+  r = runOffline(concat(base, {"--first-scan", "159"}), scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("159 usable scans"), std::string::npos) << r.err;
 }
 
 // Regression on a real robot: Radish's ACES log (440 scans, 22 minutes) with its raw wheel odometry

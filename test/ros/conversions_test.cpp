@@ -144,15 +144,13 @@ TEST(Conversions, OccupancyGridRenderings) {
   std_msgs::Header h;
   h.frame_id = "map";
   nav_msgs::OccupancyGrid g;
-  OccupancyRendering map_rendering;
-  map_rendering.unknown_unobserved = true;
-  toOccupancyGrid(r, Layer::kPignistic, map_rendering, h, &g);
+  toOccupancyGrid(r, Layer::kPignistic, layerRendering(Layer::kPignistic, 2.0), h, &g);
   EXPECT_EQ(g.info.width, 2u);
   EXPECT_EQ(g.info.height, 1u);
   EXPECT_FLOAT_EQ(g.info.resolution, 0.1f);
   EXPECT_DOUBLE_EQ(g.info.origin.position.x, -1.0);
   EXPECT_DOUBLE_EQ(g.info.origin.position.y, 2.0);
-  EXPECT_EQ(g.data, (std::vector<int8_t>{90, -1}));
+  EXPECT_EQ(g.data, (std::vector<int8_t>{90, 50}));
 
   // Layer topics show the vacuous value where nothing was seen (m(Θ) = 1 -> 100).
   toOccupancyGrid(r, Layer::kUnknown, layerRendering(Layer::kUnknown, 2.0), h, &g);
@@ -161,6 +159,28 @@ TEST(Conversions, OccupancyGridRenderings) {
   toOccupancyGrid(r, Layer::kExternalConflict, layerRendering(Layer::kExternalConflict, 2.0), h,
                   &g);
   EXPECT_EQ(g.data, (std::vector<int8_t>{50, 0}));
+}
+
+// The map topic: 100 above occupied_thresh, 0 below free_thresh, -1 between them (the thresholds
+// themselves included, as map_server's trinary mode) and wherever nothing was observed. The
+// values and thresholds are exact in binary, so the float layer meets them exactly.
+TEST(Conversions, TrinaryMap) {
+  LayerRaster r;
+  r.resolution = 0.05;
+  r.width = 7;
+  r.height = 1;
+  for (auto& v : r.values) v.assign(7, 0.0f);
+  r.values[static_cast<int>(Layer::kPignistic)] = {0.9f, 0.76f, 0.75f, 0.5f, 0.25f, 0.24f, 0.9f};
+  r.observed = {1, 1, 1, 1, 1, 1, 0};
+  std_msgs::Header h;
+  h.frame_id = "map";
+  nav_msgs::OccupancyGrid g;
+  toTrinaryOccupancyGrid(r, 0.75, 0.25, h, &g);
+  EXPECT_EQ(g.header.frame_id, "map");
+  EXPECT_EQ(g.info.width, 7u);
+  EXPECT_EQ(g.data, (std::vector<int8_t>{100, 100, -1, -1, -1, 0, -1}));
+  toTrinaryOccupancyGrid(r, 0.95, 0.625, h, &g);
+  EXPECT_EQ(g.data, (std::vector<int8_t>{-1, -1, -1, 0, 0, 0, -1}));
 }
 
 TEST(Conversions, EvidentialGridMessageHasEveryLayer) {

@@ -105,13 +105,18 @@ TEST(SlamRawlog, MapsTheLogThroughRos) {
     EXPECT_EQ(g.observed.size(), cells);
     const nav_msgs::OccupancyGrid& m = *observed->map;
     EXPECT_EQ(m.data.size(), static_cast<size_t>(m.info.width) * m.info.height);
-    size_t unknown = 0, occupied = 0;
+    // Trinary, as the navigation stack reads it: 100 occupied, 0 free, -1 unknown.
+    size_t unknown = 0, occupied = 0, free = 0, other = 0;
     for (int8_t v : m.data) {
       unknown += v == -1;
-      occupied += v > 65;
+      occupied += v == 100;
+      free += v == 0;
+      other += v != -1 && v != 0 && v != 100;
     }
+    EXPECT_EQ(other, 0u) << "map values other than -1, 0 and 100";
     EXPECT_GT(unknown, 0u);
     EXPECT_GT(occupied, 100u);
+    EXPECT_GT(free, 1000u);
   }
   EXPECT_TRUE(tf_buffer->canTransform("map", "odom", ros::Time(0), ros::Duration(5.0), &error))
       << error;
@@ -123,7 +128,7 @@ TEST(SlamRawlog, MapsTheLogThroughRos) {
   save.request.directory = dir.string();
   ASSERT_TRUE(ros::service::call("/evidential_slam/save_map", save));
   ASSERT_TRUE(save.response.success) << save.response.message;
-  for (const char* f : {"layers/pignistic.pgm", "layers/pignistic.yaml",
+  for (const char* f : {"map.evmap", "layers/pignistic.pgm", "layers/pignistic.yaml",
                         "layers/external_conflict.npy", "layers/composite.png", "trajectory.tum",
                         "conflict.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;

@@ -65,6 +65,11 @@ class ParticleFilter {
   // constructed: they shape the particles and maps that exist.
   void reconfigure(const SlamConfig& config);
   const SlamConfig& config() const { return config_; }
+  // With map updates off, scans still move, refine and weigh the particles (and resampling runs),
+  // against their maps as they are; no map is written. The weights are the ones an update would
+  // give: those read the map before the scan either way.
+  void setMapUpdates(bool enabled) { map_updates_ = enabled; }
+  bool mapUpdates() const { return map_updates_; }
 
   const std::vector<Particle>& particles() const { return particles_; }
   size_t bestIndex() const;
@@ -140,6 +145,7 @@ class ParticleFilter {
   uint64_t next_map_id_ = 1;
   size_t last_groups_ = 0;  // distinct (map, pose) hypotheses integrated at the last update
   size_t last_wide_matches_ = 0;
+  bool map_updates_ = true;
 };
 
 }  // namespace evidential_slam

@@ -74,6 +74,12 @@ class SlamEngine {
   void clearStartMap() { start_.reset(); }
   bool hasStartMap() const { return start_ != nullptr; }
 
+  // Pauses or resumes mapping. While paused, every scan is processed as usual (motion gate,
+  // proposal, scan matching, weights, resampling: the particles localize on their maps) but no
+  // particle's map is changed (ParticleFilter::setMapUpdates). Kept across reset().
+  void setMappingPaused(bool paused);
+  bool mappingPaused() const { return mapping_paused_; }
+
   // Applies new parameters while running (dynamic_reconfigure). Everything but the start-up
   // parameters (particles, resolution, seed, threads, which keep their constructed values) takes
   // effect at the next scan; the particles and maps are kept. False (and `why`) when `config` is
@@ -124,6 +130,7 @@ class SlamEngine {
     Pose2 odometry;
   };
   std::unique_ptr<const MapStart> start_;
+  bool mapping_paused_ = false;
   // Before the first processed scan: the map pose of the robot at odometry pose `odometry`.
   Pose2 poseBeforeFirstScan(const Pose2& odometry) const;
 };

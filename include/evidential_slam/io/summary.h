@@ -28,10 +28,28 @@ struct MapExportSummary {
   uint64_t voxels = 0;  // observed cells * z_layers
 };
 
+// Where a run started when not from nothing (--load-map, --initial-pose; summary.json: "start").
+struct StartSummary {
+  std::string map_file;  // the map file loaded; empty: an empty map
+  uint64_t map_tiles = 0;
+  double x = 0.0, y = 0.0, theta = 0.0;  // the first scan's pose, map frame (m, m, rad)
+  std::string pose_from;                 // "map file" or "--initial-pose"
+  // The map file's odometry pose was used: the first scan is placed by the odometry since then.
+  bool odometry_anchored = false;
+};
+
+// The lossless map file written (summary.json: "map_file").
+struct MapFileSummary {
+  std::string path;  // relative to the output directory
+  uint64_t bytes = 0;
+  uint64_t tiles = 0;
+};
+
 struct RunSummary {
   std::string rawlog;
   std::string rawlog_format;            // "actions/sensory-frames" or "observations"
   std::string ground_truth;             // empty when none was given
+  uint64_t first_scan = 0;              // scans of the log passed over first (--first-scan)
   uint64_t scans_total = 0;             // scans given to the SLAM
   uint64_t scans_processed = 0;         // integrated (passed the motion gate)
   uint64_t scans_rejected = 0;          // refused by the core (ScanUpdate::rejected)
@@ -60,6 +78,8 @@ struct RunSummary {
   double external_conflict_scale = 0.0;    // EC drawn black in external_conflict.png
   int map_width = 0;
   int map_height = 0;
+  std::optional<StartSummary> start;
+  std::optional<MapFileSummary> map_file;
   std::vector<std::string> outputs;         // files written, relative to the output directory
   std::optional<MapExportSummary> octomap;  // with --export-octomap
   // Conflict alarm (conflict_alarm.h): stamps of the scans that raised a new alarm.

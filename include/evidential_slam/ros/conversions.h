@@ -52,14 +52,18 @@ void toEvidentialGridMsg(const LayerRaster& raster, const std_msgs::Header& head
 
 // How a layer is rendered as a 0..100 OccupancyGrid.
 struct OccupancyRendering {
-  double full_scale = 1.0;          // layer value drawn as 100 (EC: its display maximum)
-  bool unknown_unobserved = false;  // -1 for never-observed cells (the `map` topic)
+  double full_scale = 1.0;  // layer value drawn as 100 (EC: its display maximum)
 };
 // The rendering of `layer` on ~layers/<name>: values in [0, 1] (masses, BetP, NS, and IC and H in
 // bits over a two-element frame) scale by 100; EC by 100 / external_conflict_display_max.
 OccupancyRendering layerRendering(Layer layer, double external_conflict_display_max);
 void toOccupancyGrid(const LayerRaster& raster, Layer layer, const OccupancyRendering& rendering,
                      const std_msgs::Header& header, nav_msgs::OccupancyGrid* out);
+// The `map` topic and `dynamic_map`: trinary like gmapping's map and map_server's trinary mode,
+// which amcl and costmap_2d read: 100 where BetP(o) > occupied_thresh, 0 where BetP(o) <
+// free_thresh, -1 elsewhere and wherever the cell was never observed.
+void toTrinaryOccupancyGrid(const LayerRaster& raster, double occupied_thresh, double free_thresh,
+                            const std_msgs::Header& header, nav_msgs::OccupancyGrid* out);
 
 }  // namespace ros_adapter
 }  // namespace evidential_slam

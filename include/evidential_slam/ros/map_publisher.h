@@ -1,5 +1,5 @@
-// Turns map snapshots into messages on its own thread: the latched `map` (pignistic, -1 where
-// never observed) and `map_metadata`, `~grid` (every layer as floats) and one latched
+// Turns map snapshots into messages on its own thread: the latched `map` (trinary, as gmapping's:
+// toTrinaryOccupancyGrid) and `map_metadata`, `~grid` (every layer as floats) and one latched
 // OccupancyGrid per layer under `~layers/<name>`. A layer topic is rendered only while someone
 // subscribes to it (and at once for a new subscriber); `~grid` likewise.
 #pragma once
@@ -32,6 +32,11 @@ class MapPublisher {
   // map_update_interval). Returns at once; the work happens on the publisher's thread.
   void requestUpdate();
   void setExternalConflictDisplayMax(double bits) { ec_display_max_ = bits; }
+  // BetP(o) thresholds of the trinary `map` (occupied_thresh, free_thresh), from the next update.
+  void setThresholds(double occupied, double free) {
+    occupied_thresh_ = occupied;
+    free_thresh_ = free;
+  }
 
  private:
   void run();
@@ -43,6 +48,8 @@ class MapPublisher {
   std::string map_frame_;
   std::function<MapSnapshot()> source_;
   std::atomic<double> ec_display_max_{2.0};
+  std::atomic<double> occupied_thresh_{0.65};
+  std::atomic<double> free_thresh_{0.196};
 
   std::mutex mutex_;
   std::condition_variable wake_;

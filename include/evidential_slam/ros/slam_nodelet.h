@@ -1,6 +1,8 @@
 // The SLAM nodelet: LaserScan (through a tf2 MessageFilter) + odometry from tf in; map->odom tf,
-// ~pose, ~particles, ~path and the map topics (MapPublisher) out. Thin by design: conversions
-// live in conversions.h, parameters in params.h, the filter runs on SlamWorker's thread.
+// ~pose, ~particles, ~path and the map topics (MapPublisher) out; /initialpose and the services
+// that save, load, pause and reset the map. Thin by design: conversions live in conversions.h,
+// parameters in params.h, map files in session/map_files.h, the filter runs on SlamWorker's
+// thread.
 #pragma once
 
 #include <map>
@@ -17,8 +19,12 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/GetMap.h>
+#include <std_srvs/Empty.h>
+#include <std_srvs/SetBool.h>
 #include "evidential_slam/EvidentialSlamConfig.h"
+#include "evidential_slam/LoadMap.h"
 #include "evidential_slam/SaveMap.h"
 #include "evidential_slam/ros/map_publisher.h"
 #include "evidential_slam/ros/params.h"
@@ -45,6 +51,20 @@ class SlamNodelet : public nodelet::Nodelet {
   void reportConflict(const SessionScanResult& result, const ros::Time& stamp);
   bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
   bool getMap(nav_msgs::GetMap::Request& request, nav_msgs::GetMap::Response& response);
+  bool loadMap(LoadMap::Request& request, LoadMap::Response& response);
+  bool pauseMapping(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
+  bool resetSlam(std_srvs::Empty::Request& request, std_srvs::Empty::Response& response);
+  void onInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg);
+  // Restarts the SLAM on `map` at `pose` (map frame). With the odometry pose at that moment
+  // (`odometry`, from tf) the scans to come are placed by the odometry since; map -> odom is
+  // then known at once. False and `why` when the session refuses.
+  bool startOnMap(const EvidentialGridMap& map, const Pose2& pose, const Pose2* odometry,
+                  std::string* why);
+  // At start-up: on map_file's map (at its saved pose or initial_pose_*), or with no map at
+  // initial_pose_* when given. False and `why` when the map cannot be used.
+  bool startFromParameters(std::string* why);
+  // The latest odom -> base pose from tf, if there is one.
+  bool currentOdometry(Pose2* odometry);
 
   ros::NodeHandle nh_, private_nh_;
   std::mutex params_mutex_;
@@ -61,7 +81,8 @@ class SlamNodelet : public nodelet::Nodelet {
   // map's open space that the alarm watches (~open_space_conflict_added) and a diagnostic_msgs
   // status on /diagnostics; a warning when a new alarm rises.
   ros::Publisher conflict_pub_, open_space_conflict_pub_, diagnostics_pub_;
-  ros::ServiceServer save_map_srv_, get_map_srv_;
+  ros::ServiceServer save_map_srv_, get_map_srv_, load_map_srv_, pause_srv_, reset_srv_;
+  ros::Subscriber initial_pose_sub_;
   ros::Timer map_timer_, tf_timer_;
   // The filter holds a scan until its tf arrives and says nothing meanwhile: this watchdog warns,
   // naming the missing transform, when scans arrive but none has passed for a while.

@@ -50,6 +50,11 @@ class SlamWorker {
   // Runs `task` on the worker thread between two scans and waits for it: the way to read the
   // session (trajectory, stats, the conflict log) from another thread.
   void runOnWorker(const std::function<void(const MappingSession& session)>& task);
+  // Runs `change` on the worker thread between two scans and waits for it: the way to start the
+  // session over (on a map, at a pose) or pause it. With `map_changed` the map snapshot becomes
+  // the session's current map (none when it holds no particle yet).
+  void changeOnWorker(const std::function<void(MappingSession& session)>& change,
+                      bool map_changed);
 
   MapSnapshot latestMap() const;
   // Blocks until every queued scan has been handled (tests, shutdown of a player run).
@@ -59,6 +64,8 @@ class SlamWorker {
 
  private:
   void run();
+  // Queues `task` for the worker thread and waits until it ran.
+  void runTask(const std::function<void()>& task);
 
   MappingSession session_;
   const size_t max_queue_;

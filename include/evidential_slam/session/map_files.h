@@ -1,5 +1,8 @@
 // The files a map is saved as, written by one code path for the offline runner's --out and the
 // node's ~save_map:
+//   map.evmap        the lossless map file (io/map_file.h, docs/map_format.md): the best
+//                    particle's map, its pose and odometry pose at save time, the build and every
+//                    parameter's value; what --load-map, map_file and ~load_map read back
 //   trajectory.tum   the best particle's path, one pose per scan (TUM: t x y z qx qy qz qw)
 //   conflict.csv     per processed scan, the conflict it added and the alarm's verdict
 //   layers/          every layer as <name>.png + <name>.npy (writeLayers) and as a map_server pair
@@ -16,6 +19,7 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/core/parameters.h"
+#include "evidential_slam/io/map_file.h"
 #include "evidential_slam/session/session.h"
 
 namespace evidential_slam {
@@ -31,17 +35,43 @@ struct OctomapFilesReport {
 
 struct MapFilesReport {
   std::vector<std::string> files;  // every file written, full paths
+  std::string map_file;            // the lossless map file among them
+  io::MapFileStats map_file_stats;
   int map_width = 0;               // cells of the layer rasters
   int map_height = 0;
   double external_conflict_scale = 0.0;  // EC drawn black in layers/external_conflict.png
   std::optional<OctomapFilesReport> octomap;
 };
 
+// What a saved map holds, taken from a session at save time (captureMapSave).
+struct MapSave {
+  EvidentialGridMap map;  // the best particle's (a copy sharing its tiles)
+  std::vector<StampedPose> trajectory;
+  std::vector<ConflictRecord> conflicts;
+  // The map file's pose, odometry pose, parameters and metadata; the caller may add to the
+  // metadata (e.g. "source").
+  io::MapFileInfo info;
+};
+
+// The best particle's map, path and pose, the odometry pose with it, the conflict record, every
+// parameter's value (parameterValues) and as metadata the scan counts, the last scan's stamp and
+// whether mapping was paused. Read the session where it does not run (the node's worker thread).
+MapSave captureMapSave(const MappingSession& session);
+
 // Writes the files above into `dir` (created if missing). False with a one-line `error` on the
 // first file that cannot be written.
-bool writeMapFiles(const std::string& dir, const EvidentialGridMap& map,
-                   const std::vector<StampedPose>& trajectory,
-                   const std::vector<ConflictRecord>& conflicts, const SessionConfig& config,
+bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionConfig& config,
                    MapFilesReport* report, std::string* error);
+
+// A map file read to continue mapping on (the offline runner's --load-map, the node's map_file
+// and ~load_map).
+struct LoadedMap {
+  std::string path;  // the file read (a directory stands for its map.evmap)
+  EvidentialGridMap map;
+  io::MapFileInfo info;
+};
+// Reads `path` (a file, or a directory holding map.evmap). False with a one-line `error` naming
+// the file.
+bool loadMapFile(const std::string& path, LoadedMap* out, std::string* error);
 
 }  // namespace evidential_slam

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
 namespace io {
@@ -35,7 +36,13 @@ struct OfflineOptions {
   // --param NAME=VALUE and the shorthand options (--particles, --seed, ...), in the order given.
   std::vector<std::pair<std::string, std::string>> parameters;
   std::vector<std::string> ignored;  // node-only names met in config files
+  uint64_t first_scan = 0;           // scans of the log passed over before the first one used
   uint64_t max_scans = 0;            // 0 = all
+  // Continue mapping on a saved map (a map file, or a directory holding map.evmap), at the pose
+  // saved in it or at `initial_pose`.
+  std::string load_map;
+  bool has_initial_pose = false;  // --initial-pose x,y,yaw (map frame); without --load-map: the
+  Pose2 initial_pose;             // first scan's pose on an empty map
   bool quiet = false;                // no progress line, no per-scan warnings
   double ate_max_dt = 0.05;          // s, timestamp association window for the ATE
 };

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,13 +49,26 @@ class MappingSession {
   bool reconfigure(const Parameters& params, std::string* why);
   // Starts over: no particles, no conflict record, and the map startFromMap gave (if any) or none.
   void reset();
+  // Starts over from nothing: forgets the map startFromMap gave, then reset().
+  void startOver();
   // Starts over on `map` at `pose` (SlamEngine::startFromMap, which says what `odometry` does),
-  // e.g. a map file read with io::readMapFile. A later reset (a time jump back, a looping bag)
-  // starts on this map again. False (and `why`) when the engine refuses it; nothing changes then.
+  // e.g. a map file read with io::readMapFile. A map of another resolution than the session's
+  // replaces the engine by one of the map's resolution (parameters().slam.resolution follows).
+  // A later reset (a time jump back, a looping bag) starts on this map again. False (and `why`)
+  // when the engine refuses it; nothing changes then.
   bool startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
                     const Pose2* odometry = nullptr);
+  // The map a start at a pose the user gives (a node's /initialpose) should use: the best
+  // particle's map, or, before the first scan, the map startFromMap gave or an empty one.
+  EvidentialGridMap currentMap() const;
 
-  const SlamEngine& engine() const { return engine_; }
+  // Pauses or resumes mapping (SlamEngine::setMappingPaused): paused, scans localize on the maps
+  // as they are and change none; they feed neither the conflict alarm nor the conflict record
+  // (they add no conflict). Kept across reset() and startFromMap; startOver() does not change it.
+  void setMappingPaused(bool paused) { engine_->setMappingPaused(paused); }
+  bool mappingPaused() const { return engine_->mappingPaused(); }
+
+  const SlamEngine& engine() const { return *engine_; }
   const Parameters& parameters() const { return params_; }
   const std::vector<ConflictRecord>& conflictLog() const { return conflict_log_; }
   uint64_t scansDropped() const { return dropped_; }
@@ -62,7 +76,7 @@ class MappingSession {
 
  private:
   Parameters params_;
-  SlamEngine engine_;
+  std::unique_ptr<SlamEngine> engine_;
   ConflictAlarm alarm_;
   std::vector<ConflictRecord> conflict_log_;
   bool have_last_stamp_ = false;
