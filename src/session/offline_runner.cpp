@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "evidential_slam/core/metrics.h"
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/ground_truth.h"
@@ -66,6 +67,7 @@ class Run {
   std::vector<StampedPose> truth_;
   std::vector<StampedPose> odometry_path_;
   fs::path out_dir_;
+  AtomicFiles outputs_;  // every output file, staged until the run has written them all
 };
 
 int Run::execute() {
@@ -218,7 +220,7 @@ int Run::execute() {
 
   MapFilesReport files;
   if (!writeMapFiles(out_dir_.string(), best_map, best_path, conflicts, opt_.params.session,
-                     &files, &why)) {
+                     &files, &why, &outputs_)) {
     return fail(kExitBadInput, why);
   }
   for (const std::string& f : files.files) {
@@ -246,7 +248,10 @@ int Run::execute() {
   summary_.peak_rss_mb = peakRssMb();
   const std::string summary_path = (out_dir_ / "summary.json").string();
   summary_.outputs.push_back("summary.json");
-  if (!writeSummaryJson(summary_path, summary_, &why)) return fail(kExitBadInput, why);
+  // Every output replaces the previous run's only now, all together (atomic_files.h).
+  if (!writeSummaryJson(summary_path, summary_, &why, &outputs_) || !outputs_.commit(&why)) {
+    return fail(kExitBadInput, why);
+  }
 
   std::fprintf(out_, "scans:      %llu read, %llu processed, %llu rejected%s\n",
                static_cast<unsigned long long>(given),

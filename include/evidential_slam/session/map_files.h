@@ -19,6 +19,9 @@
 #include "evidential_slam/session/session.h"
 
 namespace evidential_slam {
+namespace io {
+class AtomicFiles;
+}  // namespace io
 
 // What the OctoMap export wrote.
 struct OctomapFilesReport {
@@ -37,11 +40,14 @@ struct MapFilesReport {
   std::optional<OctomapFilesReport> octomap;
 };
 
-// Writes the files above into `dir` (created if missing). False with a one-line `error` on the
-// first file that cannot be written.
+// Writes the files above into `dir` (created if missing). They replace the previous files together
+// once all are written (io/atomic_files.h): staged into `staged` when given (the caller commits it
+// with files of its own), else committed here. False with a one-line `error` on the first file
+// that cannot be written; the previous files are then left as they were.
 bool writeMapFiles(const std::string& dir, const EvidentialGridMap& map,
                    const std::vector<StampedPose>& trajectory,
                    const std::vector<ConflictRecord>& conflicts, const SessionConfig& config,
-                   MapFilesReport* report, std::string* error);
+                   MapFilesReport* report, std::string* error,
+                   io::AtomicFiles* staged = nullptr);
 
 }  // namespace evidential_slam
