@@ -41,19 +41,22 @@ if(CATKIN_ENABLE_TESTING)
   # --- libFuzzer target for the reader -----------------------------------------------------------
   # Built like the OctoMap reader's (OctomapTargets.cmake): with clang, ASan and UBSan, when that
   # file's probe found a clang++ that links -fsanitize=fuzzer (it then set ES_FUZZER_BIN).
-  # test_map_file_fuzz runs it for a few seconds on the committed seeds (test/data/map_file_seeds).
+  # test_map_file_fuzz runs it for a fixed number of inputs from the committed seeds
+  # (test/data/map_file_seeds).
   set(ES_MAP_FUZZER_BIN "")
   if(ES_FUZZER_BIN)
     set(ES_MAP_FUZZER_BIN "${CMAKE_CURRENT_BINARY_DIR}/map_file_fuzzer")
     set(map_fuzz_sources
       "${CMAKE_CURRENT_SOURCE_DIR}/test/io/map_file_fuzzer.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/io/map_file.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/io/atomic_files.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/evidential_grid.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/mass.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/pose2.cpp"
       "${ES_BUILD_INFO_CPP}")
     file(GLOB map_fuzz_headers CONFIGURE_DEPENDS
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/map_file.h"
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/atomic_files.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/evidential_grid.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/mass.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/pose2.h")

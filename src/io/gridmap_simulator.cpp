@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -14,6 +16,7 @@
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -23,6 +26,9 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
+
+#include "evidential_slam/io/atomic_files.h"
+#include "evidential_slam/io/error_text.h"
 
 namespace evidential_slam {
 namespace io {
@@ -56,24 +62,6 @@ Pose2 unicycleIncrement(double v, double w, double dt) {
   return Pose2(r * std::sin(a), r * (1.0 - std::cos(a)), a);
 }
 
-// The "Message:" part of an MRPT exception text (which also holds a banner, a location and a call
-// stack); else its first non-empty line.
-std::string mrptMessage(const std::string& text) {
-  std::string message = text;
-  const size_t at = message.find("Message:");
-  if (at != std::string::npos) {
-    message = message.substr(at + 8);
-    message.resize(std::min(message.find('\n'), message.find("Location:")));
-  } else {
-    const size_t begin = message.find_first_not_of("\n");
-    message = begin == std::string::npos ? "" : message.substr(begin);
-    message.resize(std::min(message.size(), message.find('\n')));
-  }
-  const size_t begin = message.find_first_not_of(' ');
-  const size_t end = message.find_last_not_of(' ');
-  return begin == std::string::npos ? "" : message.substr(begin, end - begin + 1);
-}
-
 // MRPT's map loaders print their exceptions to std::cerr and return false. This keeps that text
 // off the terminal and for our own one-line error.
 class CerrCapture {
@@ -82,7 +70,7 @@ class CerrCapture {
   ~CerrCapture() { std::cerr.rdbuf(old_); }
   std::string message() const {
     const std::string text = buffer_.str();
-    return text.find("Message:") == std::string::npos ? "" : mrptMessage(text);
+    return text.find("Message:") == std::string::npos ? "" : oneLineMessage(text);
   }
 
  private:
@@ -210,18 +198,28 @@ std::vector<GridmapSimulatorField> gridmapSimulatorFields(GridmapSimulatorConfig
 
 bool readWaypoints(const std::string& path, std::vector<Eigen::Vector2d>* waypoints,
                    std::string* error) {
+  waypoints->clear();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    if (error) *error = "waypoint file '" + path + "' does not exist or is not a file";
+    return false;
+  }
+  std::ifstream in(path);
+  if (!in) {
+    if (error) *error = "cannot read waypoint file '" + path + "'";
+    return false;
+  }
+  return readWaypoints(in, path, waypoints, error);
+}
+
+bool readWaypoints(std::istream& in, const std::string& name,
+                   std::vector<Eigen::Vector2d>* waypoints, std::string* error) {
   auto fail = [&](const std::string& why) {
     if (error) *error = why;
     waypoints->clear();
     return false;
   };
   waypoints->clear();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    return fail("waypoint file '" + path + "' does not exist or is not a file");
-  }
-  std::ifstream in(path);
-  if (!in) return fail("cannot read waypoint file '" + path + "'");
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
@@ -235,13 +233,14 @@ bool readWaypoints(const std::string& path, std::vector<Eigen::Vector2d>* waypoi
     double x = 0.0, y = 0.0;
     std::string extra;
     if (!(again >> x >> y) || (again >> extra) || !finite(x) || !finite(y)) {
-      return fail("waypoint file '" + path + "' line " + std::to_string(number) +
-                  ": expected two numbers `x y`, got '" + line + "'");
+      return fail("waypoint file '" + name + "' line " + std::to_string(number) +
+                  ": expected two numbers `x y`, got " + quotedForMessage(line));
     }
     waypoints->emplace_back(x, y);
   }
+  if (in.bad()) return fail("error reading waypoint file '" + name + "'");
   if (waypoints->size() < 2) {
-    return fail("waypoint file '" + path + "' holds " + std::to_string(waypoints->size()) +
+    return fail("waypoint file '" + name + "' holds " + std::to_string(waypoints->size()) +
                 " waypoint(s); at least 2 are needed");
   }
   return true;
@@ -363,7 +362,7 @@ struct GridmapSimulator::Impl {
       }
     } catch (const std::exception& e) {
       ok = false;
-      detail = mrptMessage(e.what());
+      detail = oneLineMessage(e.what());
     }
     if (detail.empty()) detail = capture.message();
     if (!ok) {
@@ -386,6 +385,23 @@ struct GridmapSimulator::Impl {
     buildObstacles();
     if (!config.waypoints.empty()) {
       if (!readWaypoints(config.waypoints, &waypoints, error)) return false;
+      // The run ends at the last waypoint: one far off the map would never be reached. Beyond a
+      // wall, within the map's own size of its edges, the robot is held by the wall and stops.
+      const double margin_x = grid.getXMax() - grid.getXMin();
+      const double margin_y = grid.getYMax() - grid.getYMin();
+      for (size_t i = 0; i < waypoints.size(); ++i) {
+        const Eigen::Vector2d& w = waypoints[i];
+        if (w.x() < grid.getXMin() - margin_x || w.x() > grid.getXMax() + margin_x ||
+            w.y() < grid.getYMin() - margin_y || w.y() > grid.getYMax() + margin_y) {
+          std::ostringstream why;
+          why << "waypoint " << i + 1 << " of '" << config.waypoints << "' at (" << w.x() << ", "
+              << w.y() << ") lies more than the map's size outside the map (x " << grid.getXMin()
+              << " .. " << grid.getXMax() << ", y " << grid.getYMin() << " .. " << grid.getYMax()
+              << " m)";
+          *error = why.str();
+          return false;
+        }
+      }
       const Eigen::Vector2d d = waypoints[1] - waypoints[0];
       truth = Pose2(waypoints[0].x(), waypoints[0].y(), std::atan2(d.y(), d.x()));
     } else {
@@ -613,13 +629,36 @@ struct SimulationRecorder::Impl {
   mrpt::io::CFileGZOutputStream rawlog;
   std::ofstream truth;
   std::string rawlog_path, truth_path, label;
+  AtomicFiles files;  // both files, under temporary names until close()
+  std::string rawlog_temp;
   uint64_t written = 0;
   bool open = false;
+
+  void abandon() {
+    rawlog.close();
+    truth.close();
+    files.abandon();
+    open = false;
+  }
+  // gzip output whose final flush failed is cut short: it must decompress to every byte written.
+  bool rawlogReadsBack(uint64_t bytes) const {
+    mrpt::io::CFileGZInputStream in;
+    if (!in.open(rawlog_temp)) return false;
+    std::vector<char> buffer(1 << 16);
+    uint64_t total = 0;
+    for (;;) {
+      const size_t n = in.Read(buffer.data(), buffer.size());
+      if (n > buffer.size()) return false;  // a zlib error
+      if (n == 0) break;
+      total += n;
+    }
+    return total == bytes;
+  }
 };
 
 SimulationRecorder::SimulationRecorder() : impl_(std::make_unique<Impl>()) {}
 SimulationRecorder::~SimulationRecorder() {
-  if (impl_->open) close(nullptr);
+  if (impl_->open) impl_->abandon();
 }
 
 bool SimulationRecorder::open(const std::string& rawlog_path, const std::string& laser_label,
@@ -628,21 +667,30 @@ bool SimulationRecorder::open(const std::string& rawlog_path, const std::string&
   d.rawlog_path = rawlog_path;
   d.truth_path = groundTruthPathFor(rawlog_path);
   d.label = laser_label;
-  std::string why;
+  std::string why, truth_temp;
+  if (!d.files.reserve(rawlog_path, &d.rawlog_temp, &why) ||
+      !d.files.reserve(d.truth_path, &truth_temp, &why)) {
+    if (error) *error = why;
+    return false;
+  }
   bool opened = false;
   try {
-    opened = d.rawlog.open(rawlog_path, 1, why);
+    opened = d.rawlog.open(d.rawlog_temp, 1, why);
   } catch (const std::exception& e) {
     why = e.what();
   }
   if (!opened) {
-    if (error)
-      *error = "cannot write rawlog '" + rawlog_path + "'" + (why.empty() ? "" : ": " + why);
+    d.files.abandon();
+    if (error) {
+      *error = "cannot write rawlog '" + rawlog_path + "'" +
+               (why.empty() ? "" : ": " + oneLineMessage(why));
+    }
     return false;
   }
-  d.truth.open(d.truth_path, std::ios::trunc);
+  d.truth.open(truth_temp, std::ios::trunc);
   if (!d.truth) {
     d.rawlog.close();
+    d.files.abandon();
     if (error) *error = "cannot write ground truth '" + d.truth_path + "'";
     return false;
   }
@@ -682,11 +730,15 @@ bool SimulationRecorder::write(const SimulatedScan& s, std::string* error) {
   mrpt::obs::CSensoryFrame frame;
   frame.insert(obs);
 
+  errno = 0;  // what the failing write leaves here is the reason
   try {
     auto archive = mrpt::serialization::archiveFrom(d.rawlog);
     archive << actions << frame;
   } catch (const std::exception& e) {
-    if (error) *error = "cannot write rawlog '" + d.rawlog_path + "': " + e.what();
+    if (error) {
+      *error = "cannot write rawlog '" + d.rawlog_path + "': " + oneLineMessage(e.what()) +
+               (errno != 0 ? " (" + std::string(std::strerror(errno)) + ")" : "");
+    }
     return false;
   }
   d.truth << s.stamp << ' ' << s.true_pose.x << ' ' << s.true_pose.y << ' ' << s.true_pose.theta
@@ -702,14 +754,21 @@ bool SimulationRecorder::write(const SimulatedScan& s, std::string* error) {
 bool SimulationRecorder::close(std::string* error) {
   Impl& d = *impl_;
   if (!d.open) return true;
-  d.open = false;
+  const uint64_t bytes = d.rawlog.getPosition();
   d.rawlog.close();
   d.truth.close();
+  d.open = false;
   if (!d.truth) {
+    d.files.abandon();
     if (error) *error = "cannot finish ground truth '" + d.truth_path + "'";
     return false;
   }
-  return true;
+  if (!d.rawlogReadsBack(bytes)) {
+    d.files.abandon();
+    if (error) *error = "cannot finish rawlog '" + d.rawlog_path + "' (disk full?)";
+    return false;
+  }
+  return d.files.commit(error);
 }
 
 uint64_t SimulationRecorder::written() const { return impl_->written; }

@@ -12,7 +12,9 @@
 #include <system_error>
 
 #include "evidential_slam/core/metrics.h"
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/command_line.h"
+#include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/parameter_file.h"
 #include "evidential_slam/io/progress.h"
@@ -69,6 +71,7 @@ class Run {
   std::vector<StampedPose> truth_;
   std::vector<StampedPose> odometry_path_;
   fs::path out_dir_;
+  AtomicFiles outputs_;  // every output file, staged until the run has written them all
 };
 
 bool Run::startSession(MappingSession* session, const LoadedMap& loaded, const std::string& source,
@@ -285,7 +288,7 @@ int Run::execute() {
   }
 
   MapFilesReport files;
-  if (!writeMapFiles(out_dir_.string(), save, opt_.params.session, &files, &why)) {
+  if (!writeMapFiles(out_dir_.string(), save, opt_.params.session, &files, &why, &outputs_)) {
     return fail(kExitBadInput, why);
   }
   summary_.map_file = MapFileSummary{fs::path(files.map_file).lexically_relative(out_dir_).string(),
@@ -315,7 +318,10 @@ int Run::execute() {
   summary_.peak_rss_mb = peakRssMb();
   const std::string summary_path = (out_dir_ / "summary.json").string();
   summary_.outputs.push_back("summary.json");
-  if (!writeSummaryJson(summary_path, summary_, &why)) return fail(kExitBadInput, why);
+  // Every output replaces the previous run's only now, all together (atomic_files.h).
+  if (!writeSummaryJson(summary_path, summary_, &why, &outputs_) || !outputs_.commit(&why)) {
+    return fail(kExitBadInput, why);
+  }
 
   std::fprintf(out_, "scans:      %llu read, %llu processed, %llu rejected%s\n",
                static_cast<unsigned long long>(given),
@@ -531,22 +537,6 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
   return true;
 }
 
-namespace {
-
-// First meaningful line of an exception text (MRPT's carry a banner and a call stack).
-std::string oneLine(const std::string& what) {
-  std::string text = what;
-  const size_t msg = text.find("Message:");
-  if (msg != std::string::npos) text = text.substr(msg + 8);
-  const size_t start = text.find_first_not_of(" \t\n");
-  if (start == std::string::npos) return "(no message)";
-  text = text.substr(start);
-  const size_t eol = text.find('\n');
-  return eol == std::string::npos ? text : text.substr(0, eol);
-}
-
-}  // namespace
-
 int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty) {
   try {
     Run run(options, out, err, err_is_tty);
@@ -555,7 +545,7 @@ int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bo
     std::fprintf(err, "error: out of memory\n");
     return kExitInternal;
   } catch (const std::exception& e) {
-    std::fprintf(err, "error: unexpected failure: %s\n", oneLine(e.what()).c_str());
+    std::fprintf(err, "error: unexpected failure: %s\n", oneLineMessage(e.what()).c_str());
     return kExitInternal;
   }
 }

@@ -517,6 +517,17 @@ TEST(GridmapSimulator, BadInputGivesAOneLineError) {
   EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
   expectOneLineError(error, "no_waypoints.txt' does not exist");
 
+  // Bytes of a binary file are shown escaped, not written to the terminal.
+  garbage.waypoints = writeWaypoints(dir, std::string("1 2\n\x1b[2J\x01\xff 3\n", 13));
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "got '\\x1b[2J\\x01\\xff 3'");
+
+  // A waypoint far off the map would never be reached: the run would not end.
+  garbage.waypoints = writeWaypoints(dir, "1 1\n1e9 1\n");
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "waypoint 2 of");
+  expectOneLineError(error, "lies more than the map's size outside the map");
+
   GridmapSimulatorConfig invalid = c;
   invalid.linear_speed = -1.0;
   EXPECT_FALSE(GridmapSimulator(invalid).load(&error));
@@ -546,7 +557,7 @@ TEST(GridmapSimulator, BadInputGivesAOneLineError) {
   c.duration = 1.0;
   EXPECT_FALSE(
       io::simulateToRawlog(c, (dir / "no" / "dir" / "x.rawlog").string(), nullptr, &error));
-  expectOneLineError(error, "cannot write rawlog");
+  expectOneLineError(error, "x.rawlog': No such file or directory");
   EXPECT_TRUE(io::simulateToRawlog(c, (dir / "x.rawlog").string(), nullptr, &error)) << error;
 }
 

@@ -3,12 +3,15 @@
 // outputs and the value ranges of every layer.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <nlohmann/json.hpp>
 
 #include "evidential_slam/core/measures.h"
@@ -44,8 +47,11 @@ std::string quote(const std::string& s) {
   return q + "'";
 }
 
-Result runOffline(const std::vector<std::string>& args, const fs::path& scratch) {
-  std::string cmd = quote(ES_OFFLINE_BIN);
+// `prefix` goes before the command (a shell command ending in `exec` or a launcher such as
+// prlimit).
+Result runOffline(const std::vector<std::string>& args, const fs::path& scratch,
+                  const std::string& prefix = "") {
+  std::string cmd = prefix + quote(ES_OFFLINE_BIN);
   for (const auto& a : args) cmd += " " + quote(a);
   const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
   cmd += " > " + quote(out.string()) + " 2> " + quote(err.string()) + " < /dev/null";
@@ -208,6 +214,104 @@ TEST_F(OfflineE2E, NotARawlog) {
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("error: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("not an MRPT rawlog"), std::string::npos) << r.err;
+}
+
+// The fixture's decompressed bytes with `patch` applied at the payload of its `nth` scan (0-based;
+// `offset` bytes after the scan's version byte).
+std::string patchedFixture(int nth, size_t offset, const std::string& patch) {
+  mrpt::io::CFileGZInputStream in(dataPath("sim.rawlog"));
+  std::string bytes;
+  char buf[65536];
+  size_t n;
+  while ((n = in.Read(buf, sizeof(buf))) > 0 && n <= sizeof(buf)) bytes.append(buf, n);
+  const std::string name = "mrpt::obs::CObservation2DRangeScan";
+  size_t at = 0;
+  for (int i = 0; i <= nth; ++i) at = bytes.find(name, at + 1);
+  EXPECT_NE(at, std::string::npos);
+  bytes.replace(at + name.size() + 1 + offset, patch.size(), patch);
+  return bytes;
+}
+
+// A corrupt entry in the middle of the log (here scan 40's beam count: 2^30, which made MRPT
+// write through a null pointer) and an impossible value are bad input: exit 2 with one line that
+// names the entry, before any SLAM work.
+TEST_F(OfflineE2E, CorruptLogIsBadInput) {
+  // Aperture (4), direction (1) and maximum range (4), then the CPose3D (header, version 3:
+  // twelve doubles, end flag), then the beam count.
+  const size_t beam_count = 9 + 1 + 20 + 1 + 96 + 1;
+  const std::string huge("\x00\x00\x00\x40", 4);
+  const float nan = std::nanf("");
+  const std::string nan_bytes(reinterpret_cast<const char*>(&nan), 4);
+  struct Case {
+    std::string bytes, expect;
+  };
+  for (const Case& c : {Case{patchedFixture(40, beam_count, huge), "1073741824 beams in a scan"},
+                        Case{patchedFixture(40, 0, nan_bytes), "a scan aperture of nan rad"}}) {
+    const fs::path log = scratch_ / "corrupt.rawlog", out = scratch_ / "out";
+    test::writeText(log, c.bytes);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r =
+        runOffline(concat({"--rawlog", log.string(), "--out", out.string()}, kFast), scratch_);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: '" + log.string() + "' is corrupt at rawlog entry 82"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_LT(seconds, 10.0);
+    EXPECT_FALSE(fs::exists(out / "summary.json"));
+  }
+}
+
+// Name -> size and hash of every file under `dir`.
+std::map<std::string, std::pair<size_t, size_t>> digest(const fs::path& dir) {
+  std::map<std::string, std::pair<size_t, size_t>> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string content = test::readText(e.path());
+    files[e.path().lexically_relative(dir).string()] = {content.size(),
+                                                        std::hash<std::string>()(content)};
+  }
+  return files;
+}
+
+// A run whose outputs cannot be written (a full disk: here no file may grow past 100 kB; an
+// unwritable directory) exits 2 with the reason, and leaves the previous run's files as they were
+// and no temporary file: every output replaces the old one only once all are written.
+TEST_F(OfflineE2E, AFailedSaveKeepsThePreviousRun) {
+  const fs::path out = scratch_ / "out";
+  const std::vector<std::string> base = {"--rawlog",   dataPath("sim.rawlog"), "--out",
+                                         out.string(), "--export-octomap",     "--quiet"};
+  Result r = runOffline(concat(concat(base, kFast), {"--max-scans", "40"}), scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto before = digest(out);
+  // Top level (with map.evmap), layers (PNG/NPY and the map_server pairs), OctoMap.
+  ASSERT_EQ(before.size(), 4u + 21u + 18u + 3u);
+
+  // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing the run.
+  r = runOffline(concat(concat(base, kFast), {"--max-scans", "60"}), scratch_,
+                 "trap '' XFSZ; exec prlimit --fsize=100000 -- ");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("error: cannot write '" + out.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("': File too large"), std::string::npos) << r.err;
+  EXPECT_EQ(digest(out), before);
+
+  // Unwritable directories (as user nobody when the tests run as root, who may write anyway).
+  const auto read_only = fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                         fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec;
+  for (const fs::path& d : {out, out / "layers", out / "octomap"}) fs::permissions(d, read_only);
+  r = runOffline(concat(concat(base, kFast), {"--max-scans", "60"}), scratch_,
+                 geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "");
+  for (const fs::path& d : {out, out / "layers", out / "octomap"}) {
+    fs::permissions(d, fs::perms::owner_all, fs::perm_options::add);
+  }
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("': Permission denied"), std::string::npos) << r.err;
+  EXPECT_EQ(digest(out), before);
 }
 
 TEST_F(OfflineE2E, TruncatedLogStillWritesOutputs) {

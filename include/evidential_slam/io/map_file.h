@@ -67,10 +67,13 @@ bool encodeMapFile(const EvidentialGridMap& map, const MapFileInfo& info, std::s
 bool decodeMapFile(const uint8_t* data, size_t size, EvidentialGridMap* map, MapFileInfo* info,
                    std::string* error);
 
+class AtomicFiles;
 // Writes `path` (through a temporary file renamed over it, so an existing map is never left
-// half-written). The error names the file.
+// half-written; staged into `staged` when given, to be renamed with the rest of its set). The
+// error names the file.
 bool writeMapFile(const std::string& path, const EvidentialGridMap& map, const MapFileInfo& info,
-                  std::string* error, MapFileStats* stats = nullptr);
+                  std::string* error, MapFileStats* stats = nullptr,
+                  AtomicFiles* staged = nullptr);
 // Reads `path`. The error names the file: "map.evmap: truncated: ...".
 bool readMapFile(const std::string& path, EvidentialGridMap* map, MapFileInfo* info,
                  std::string* error);
