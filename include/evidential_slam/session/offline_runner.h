@@ -37,6 +37,7 @@ struct OfflineOptions {
   std::vector<std::string> ignored;  // node-only names met in config files
   uint64_t max_scans = 0;            // 0 = all
   bool quiet = false;                // no progress line, no per-scan warnings
+  bool profile = false;              // --profile: time the update's sections (profile.h)
   double ate_max_dt = 0.05;          // s, timestamp association window for the ATE
 };
 
@@ -57,6 +58,8 @@ int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bo
 
 // Peak resident set size of this process so far, MB (getrusage).
 double peakRssMb();
+// CPU time (user + system) of this process so far, s (getrusage).
+double processCpuSeconds();
 
 }  // namespace io
 }  // namespace evidential_slam
