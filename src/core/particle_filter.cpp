@@ -371,25 +371,27 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     group_of[k] = g;
   }
   last_groups_ = leaders.size();
-  // A member takes its leader's map after the update (7.), so it lets go of its own now: the
+  // A member takes its leader's map after the update (5.), so it lets go of its own now: the
   // last group writing a tile of their common map then writes it in place instead of cloning it,
-  // and the old tile is not kept alive until 7.
+  // and the old tile is not kept alive until 5.
   for (size_t k = 0; k < n; ++k) {
     if (k != leaders[group_of[k]]) {
       particles_[k].map = EvidentialGridMap(particles_[k].map.resolution());
     }
   }
 
-  // 4. Weight once per group: the scan's log plausibility on the group's map as it is, keeping the
-  //    scan's evidence for the map update (6.).
-  while (group_scans_.size() < leaders.size()) {
-    group_scans_.push_back(std::make_unique<ScanAccumulator>());
-  }
-  std::vector<double> log_pl(leaders.size(), 0.0);
-  pool_->run(leaders.size(), [&](size_t g, int) {
-    log_pl[g] = beam_model->weighAndAccumulate(proposed[leaders[g]].compose(scan.sensor_pose), scan,
-                                               particles_[leaders[g]].map, group_scans_[g].get(),
-                                               config_.sensor.weight_beam_stride);
+  // 4. Weight and map update, once per group.
+  std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
+  std::vector<ScanConflict> conflict_stats(leaders.size());
+  pool_->run(leaders.size(), [&](size_t g, int worker) {
+    Particle& p = particles_[leaders[g]];
+    Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
+    const BeamModel::ScanEvidence evidence =
+        beam_model->weighAndIntegrate(proposed[leaders[g]].compose(scan.sensor_pose), scan, &p.map,
+                                      &ws.accumulator, config_.sensor.weight_beam_stride);
+    log_pl[g] = evidence.log_plausibility;
+    conflict_added[g] = evidence.conflict_added_bits;
+    conflict_stats[g] = evidence.conflict;
   });
   Profiler* const profiler = Profiler::active();
   if (profiler != nullptr) {
@@ -404,42 +406,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     motion_log_prior[g] = alongTrackLogPrior(particles_[leaders[g]].pose, proposed[leaders[g]],
                                              increment, config_.motion, kTranslationFailureNats);
   }
-  for (size_t k = 0; k < n; ++k) {
-    const size_t g = group_of[k];
-    const double log_weight = exponent * log_pl[g] + motion_log_prior[g];
-    particles_[k].log_weight += log_weight;
-    particles_[k].cumulative_log_weight += log_weight;
-  }
 
-  // 5. Resampling is decided on the weights alone, before the maps are updated: the scan is then
-  //    applied only to the groups that have a child, and to the best particle's group, whose
-  //    conflict figures the step reports (21.9 % of the groups' map updates on simul.rawlog went
-  //    to groups that resampling then discarded).
-  FilterStepInfo info;
-  info.long_step = long_step;
-  const size_t best_group = group_of[bestIndex()];
-  const std::vector<size_t> parents = resamplingParents(&info);
-  std::vector<char> apply(leaders.size(), parents.empty() ? 1 : 0);
-  for (const size_t parent : parents) apply[group_of[parent]] = 1;
-  apply[best_group] = 1;
-  std::vector<size_t> applied;
-  for (size_t g = 0; g < leaders.size(); ++g) {
-    if (apply[g] != 0) applied.push_back(g);
-  }
-  last_applied_groups_ = applied.size();
-
-  // 6. Map update, once per group that is kept; the conflict figures for the best group only.
-  pool_->run(applied.size(), [&](size_t i, int) {
-    const size_t g = applied[i];
-    if (g == best_group) {
-      info.best_conflict_added_bits = beam_model->applyScan(
-          *group_scans_[g], &particles_[leaders[g]].map, &info.best_conflict);
-    } else {
-      beam_model->applyScan(*group_scans_[g], &particles_[leaders[g]].map, nullptr);
-    }
-  });
-
-  // 7. Members take their leader's pose, map (shared tiles) and path node.
+  // 5. Members take their leader's pose, map (shared tiles) and path node.
   std::vector<std::shared_ptr<const PathNode>> nodes(leaders.size());
   std::vector<uint64_t> ids(leaders.size());
   for (size_t g = 0; g < leaders.size(); ++g) {
@@ -457,9 +425,16 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     p.pose = proposed[leaders[g]];
     p.map_id = ids[g];
     p.path = nodes[g];
+    const double log_weight = exponent * log_pl[g] + motion_log_prior[g];
+    p.log_weight += log_weight;
+    p.cumulative_log_weight += log_weight;
   }
-  if (!parents.empty()) resample(parents);
-  info.resampled = !parents.empty();
+
+  FilterStepInfo info;
+  info.long_step = long_step;
+  info.best_conflict_added_bits = conflict_added[group_of[bestIndex()]];
+  info.best_conflict = conflict_stats[group_of[bestIndex()]];
+  resampleIfNeeded(&info);
   return info;
 }
 
@@ -476,7 +451,8 @@ void ParticleFilter::replayFloor(Profiler* profiler, const BeamModel& beam_model
   }
 }
 
-std::vector<size_t> ParticleFilter::resamplingParents(FilterStepInfo* info) {
+void ParticleFilter::resampleIfNeeded(FilterStepInfo* info) {
+  const ProfileTimer timer(ProfileSection::kResample);
   double max_log = -std::numeric_limits<double>::infinity();
   for (const Particle& p : particles_) max_log = std::max(max_log, p.log_weight);
   std::vector<double> w(particles_.size());
@@ -494,14 +470,10 @@ std::vector<size_t> ParticleFilter::resamplingParents(FilterStepInfo* info) {
   info->effective_sample_size = 1.0 / sum_sq;
   if (info->effective_sample_size >=
       config_.resample_threshold * static_cast<double>(particles_.size())) {
-    return {};
+    return;
   }
   Rng rng = Rng::forStream(config_.seed, 0xA5A5A5A5ull, resample_counter_++);
-  return systematicResample(w, rng.uniform());
-}
-
-void ParticleFilter::resample(const std::vector<size_t>& parents) {
-  const ProfileTimer timer(ProfileSection::kResample);
+  const std::vector<size_t> parents = systematicResample(w, rng.uniform());
   // A child copies its parent (the map copy shares every tile); a parent's last child takes it
   // over instead, sparing a copy of the tile pointers and their reference counts.
   std::vector<size_t> last_child(particles_.size(), 0);
@@ -518,6 +490,7 @@ void ParticleFilter::resample(const std::vector<size_t>& parents) {
     next.back().log_weight = 0.0;
   }
   particles_ = std::move(next);
+  info->resampled = true;
 }
 
 }  // namespace evidential_slam

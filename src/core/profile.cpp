@@ -86,7 +86,7 @@ void Profiler::floorReplay(size_t slot, const std::vector<std::pair<int, int>>& 
   FloorMap& map = *floor_maps_[slot];
   // Tiles are allocated before the clock starts: the floor is the cells' work, not allocation.
   for (const auto& [x, y] : cells) map.tileAt(x >> FloorMap::kBits, y >> FloorMap::kBits);
-  const auto start = std::chrono::steady_clock::now();
+  const int64_t start = ProfileTimer::threadCpuNs();
   int last_tx = std::numeric_limits<int>::min(), last_ty = 0;
   FloorMap::Tile* tile = nullptr;
   for (const auto& [x, y] : cells) {
@@ -100,9 +100,7 @@ void Profiler::floorReplay(size_t slot, const std::vector<std::pair<int, int>>& 
                                             (x & (FloorMap::kSide - 1)))];
     c = c * -1.0;  // one read, one multiply, one write (the sign flips: no denormals)
   }
-  floor_ns_ += std::chrono::duration_cast<std::chrono::nanoseconds>(
-                   std::chrono::steady_clock::now() - start)
-                   .count();
+  floor_ns_ += ProfileTimer::threadCpuNs() - start;
   count(ProfileCounter::kFloorCells, cells.size());
 }
 
@@ -114,7 +112,7 @@ std::string Profiler::report() const {
   }
   std::string out;
   char line[200];
-  std::snprintf(line, sizeof(line), "%-40s %12s %7s\n", "section (thread time, exclusive)",
+  std::snprintf(line, sizeof(line), "%-40s %12s %7s\n", "section (CPU time, exclusive)",
                 "ms/update", "share");
   out += line;
   for (int s = 0; s < static_cast<int>(ProfileSection::kCount); ++s) {

@@ -115,8 +115,7 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
       return out;
     }
     info = filter_->update(increment, scan, static_cast<int>(step_odometry_.size()));
-    stats_.groups_weighed += filter_->lastUpdateGroups();
-    stats_.groups_applied += filter_->lastAppliedGroups();
+    stats_.group_updates += filter_->lastUpdateGroups();
   }
   have_last_processed_ = true;
   last_processed_odometry_ = odometry;

@@ -24,10 +24,8 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["long_steps"] = s.long_steps;
   // Updates: every processed scan but the first.
   const double updates = s.scans_processed > 1 ? static_cast<double>(s.scans_processed - 1) : 1.0;
-  j["groups_weighed"] = s.groups_weighed;
-  j["groups_applied"] = s.groups_applied;
-  j["groups_per_update"] = static_cast<double>(s.groups_weighed) / updates;
-  j["groups_applied_per_update"] = static_cast<double>(s.groups_applied) / updates;
+  j["group_updates"] = s.group_updates;
+  j["groups_per_update"] = static_cast<double>(s.group_updates) / updates;
   j["wall_time_s"] = s.wall_time_s;
   j["slam_time_s"] = s.slam_time_s;
   j["peak_rss_mb"] = s.peak_rss_mb;

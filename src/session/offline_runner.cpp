@@ -199,8 +199,7 @@ int Run::execute() {
   summary_.rays_no_return = stats.rays_no_return;
   summary_.resamplings = stats.resamplings;
   summary_.long_steps = stats.long_steps;
-  summary_.groups_weighed = stats.groups_weighed;
-  summary_.groups_applied = stats.groups_applied;
+  summary_.group_updates = stats.group_updates;
   summary_.slam_time_s = slam_s;
   if (stats.rays_bad > 0) {
     warn(std::to_string(stats.rays_bad) +

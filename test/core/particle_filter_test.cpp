@@ -226,45 +226,6 @@ TEST(ParticleFilterTest, ResampledChildrenAreWholeCopiesOfTheirParents) {
   EXPECT_GT(copies, 0u);  // some parent was drawn more than once
 }
 
-// The scan is applied only to the groups that resampling keeps (and the best particle's): a
-// filter that resamples gives each child exactly the map its parent has in a twin that never
-// resamples (and so updates every group), with fewer map updates. Same seed: same proposals and
-// weights, so a child is matched to its parent by its pose.
-TEST(ParticleFilterTest, OnlyKeptGroupsAreUpdatedWithTheSameMaps) {
-  SlamConfig config = unmergedConfig(8);
-  config.resample_threshold = 1.0;  // resamples whenever the weights differ
-  SlamConfig never = config;
-  never.resample_threshold = 0.0;
-  ParticleFilter filter(config), twin(never);
-  const Pose2 start(-1.0, 0.2, 0.0);
-  filter.initialize(start, roomScan(start), 0);
-  twin.initialize(start, roomScan(start), 0);
-  const Pose2 increment(0.5, 0.05, 0.05);
-  const LaserScan scan = roomScan(start.compose(Pose2(0.45, 0.0, 0.0)));
-  ASSERT_TRUE(filter.update(increment, scan, 1).resampled);
-  ASSERT_FALSE(twin.update(increment, scan, 1).resampled);
-  EXPECT_EQ(twin.lastAppliedGroups(), 8u);
-  EXPECT_EQ(filter.lastUpdateGroups(), 8u);
-  EXPECT_LT(filter.lastAppliedGroups(), 8u);  // some groups left no child
-  for (const Particle& child : filter.particles()) {
-    const Particle* parent = nullptr;
-    for (const Particle& p : twin.particles()) {
-      if (p.pose.x == child.pose.x && p.pose.y == child.pose.y && p.pose.theta == child.pose.theta) {
-        parent = &p;
-      }
-    }
-    ASSERT_NE(parent, nullptr);
-    CellBox box = parent->map.observedBox();
-    ASSERT_FALSE(box.empty());
-    box.extend(child.map.observedBox());
-    for (int y = box.min_y; y <= box.max_y; ++y) {
-      for (int x = box.min_x; x <= box.max_x; ++x) {
-        ASSERT_EQ(child.map.cell(x, y), parent->map.cell(x, y)) << x << " " << y;
-      }
-    }
-  }
-}
-
 // along_track_prior adds to each particle's weight the log prior of how far it went along the
 // odometry's direction: with the same seed the proposals are the same, so the weights differ by
 // exactly that (no resampling, so the particles stay in step).

@@ -74,8 +74,6 @@ class ParticleFilter {
   size_t mapMemoryBytes() const;
   // Distinct hypotheses (map, pose) whose scan was integrated at the last update.
   size_t lastUpdateGroups() const { return last_groups_; }
-  // Of those, the groups whose map the scan was applied to.
-  size_t lastAppliedGroups() const { return last_applied_groups_; }
   // Hypotheses whose wide-basin match ran its multi-start search at the last update (0 when the
   // search is off or every hypothesis was explained from its prediction).
   size_t lastWideMatches() const { return last_wide_matches_; }
@@ -92,11 +90,7 @@ class ParticleFilter {
  private:
   struct Workspace;
   struct ScanModels;
-  // Normalises the log weights (max 0) and sets info's N_eff; the parent of each particle of the
-  // resampled set, or none when N_eff is at or above resample_threshold K.
-  std::vector<size_t> resamplingParents(FilterStepInfo* info);
-  // The particles become copies of their parents (systematicResample's order), weights reset.
-  void resample(const std::vector<size_t>& parents);
+  void resampleIfNeeded(FilterStepInfo* info);
   // The profiler's floor replay (profile.h) of every group's beams at this update.
   void replayFloor(Profiler* profiler, const BeamModel& beam_model, const LaserScan& scan,
                    const std::vector<Pose2>& proposed, const std::vector<size_t>& leaders);
@@ -146,13 +140,10 @@ class ParticleFilter {
   std::vector<CachedModels> models_;
   std::unique_ptr<WorkerPool> pool_;
   std::vector<std::unique_ptr<Workspace>> workspaces_;  // one per worker thread
-  // Per group of the current update: its scan's evidence, from the weighing to the map update.
-  std::vector<std::unique_ptr<ScanAccumulator>> group_scans_;
   uint64_t resample_counter_ = 0;
   uint64_t next_map_id_ = 1;
   size_t last_groups_ = 0;  // distinct (map, pose) hypotheses integrated at the last update
   size_t last_wide_matches_ = 0;
-  size_t last_applied_groups_ = 0;
 };
 
 }  // namespace evidential_slam

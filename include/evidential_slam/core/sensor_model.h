@@ -186,8 +186,7 @@ class BeamModel {
   ScanEvidence weighAndIntegrate(const Pose2& sensor_in_map, const LaserScan& scan,
                                  EvidentialGridMap* map, ScanAccumulator* scratch,
                                  int stride) const;
-  // The filter's per-group step in two halves, so that the map update can wait for resampling.
-  // weighAndAccumulate: the traversal, returning the scan's log plausibility on `map` (every
+  // weighAndIntegrate in two halves. weighAndAccumulate: the traversal, returning the scan's log plausibility on `map` (every
   // `stride`-th hit beam) and leaving the scan's evidence in `scratch`; `map` is not written.
   double weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan& scan,
                             const EvidentialGridMap& map, ScanAccumulator* scratch,

@@ -25,10 +25,9 @@ struct SlamStats {
   uint64_t rays_no_return = 0;   // rays flagged as no return
   uint64_t resamplings = 0;
   uint64_t long_steps = 0;  // processed scans after a long step (SlamConfig::isLongStep)
-  // Summed over the updates: groups of particles whose scan was weighed, and whose map it was
-  // applied to (ParticleFilter::lastUpdateGroups, lastAppliedGroups).
-  uint64_t groups_weighed = 0;
-  uint64_t groups_applied = 0;
+  // Groups of particles weighed and updated, summed over the updates
+  // (ParticleFilter::lastUpdateGroups).
+  uint64_t group_updates = 0;
 };
 
 // The particle set at the latest scan, summarised: weighted mean and covariance of (x, y, θ)

@@ -42,10 +42,9 @@ struct RunSummary {
   uint64_t rays_no_return = 0;
   uint64_t resamplings = 0;
   uint64_t long_steps = 0;  // processed scans after a long step (SlamConfig::isLongStep)
-  // Over the filter's updates: groups of particles (one map, one pose) whose scan was weighed, and
-  // those whose map it was applied to (written as totals and per update).
-  uint64_t groups_weighed = 0;
-  uint64_t groups_applied = 0;
+  // Groups of particles (one map, one pose) weighed and updated, summed over the filter's updates
+  // (written as the total and per update).
+  uint64_t group_updates = 0;
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;  // inside processScan only
   double peak_rss_mb = 0.0;
