@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 #include "evidential_slam/core/profile.h"
@@ -450,12 +451,11 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
 double BeamModel::weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan& scan,
                                      const EvidentialGridMap& map, ScanAccumulator* scratch,
                                      int stride) const {
-  const ProfileTimer timer(ProfileSection::kWeighAccumulate);
+  std::optional<ProfileTimer> timer(std::in_place, ProfileSection::kWeighAccumulate);
   const Eigen::Vector2d origin = sensor_in_map.translation();
   const CellIndex sensor_cell = map.worldToCell(origin.x(), origin.y());
   scratch->reset(sensor_cell, windowHalfCells());
   double log_plausibility = 0.0;
-  uint64_t visited = 0;
   int hit_beams = 0;
   uint64_t rays_bad = 0, rays_no_return = 0;  // counted by the engine (SlamEngine::stats)
   forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
@@ -467,13 +467,19 @@ double BeamModel::weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
       if (!pass.stopped) pass.visit(cells, cx, cy, d, hitWindow(z - d), z);
       addEvidence(scratch, cx, cy, d, z, ray.hit);
-      ++visited;
     });
     if (!weigh) return;
     log_plausibility +=
         std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
   });
   if (Profiler* profiler = Profiler::active()) {
+    // The cells visited, counted by traversing the rays again (outside the timed section): a
+    // counter in the loop above cost the filter about 2 % when not profiling.
+    timer.reset();
+    uint64_t visited = 0;
+    forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
+      traverse(origin, ray.angle, ray.length, [&](int, int, float) { ++visited; });
+    });
     profiler->count(ProfileCounter::kVisitedCells, visited);
     profiler->count(ProfileCounter::kGroupsWeighed);
   }
