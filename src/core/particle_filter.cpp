@@ -1,6 +1,7 @@
 #include "evidential_slam/core/particle_filter.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <unordered_set>
@@ -380,31 +381,45 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     }
   }
 
-  // 4. Weight and map update, once per group.
-  std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
-  std::vector<ScanConflict> conflict_stats(leaders.size());
-  pool_->run(leaders.size(), [&](size_t g, int worker) {
-    Particle& p = particles_[leaders[g]];
-    Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-    const BeamModel::ScanEvidence evidence =
-        beam_model->weighAndIntegrate(proposed[leaders[g]].compose(scan.sensor_pose), scan, &p.map,
-                                      &ws.accumulator, config_.sensor.weight_beam_stride);
-    log_pl[g] = evidence.log_plausibility;
-    conflict_added[g] = evidence.conflict_added_bits;
-    conflict_stats[g] = evidence.conflict;
-  });
-  Profiler* const profiler = Profiler::active();
-  if (profiler != nullptr) {
-    profiler->count(ProfileCounter::kUpdates);
-    if (profiler->floor_enabled) replayFloor(profiler, *beam_model, scan, proposed, leaders);
-  }
-
-  // 4b. Optionally the weights' motion prior, along the direction of travel only: a corridor
+  // 4a. Optionally the weights' motion prior, along the direction of travel only: a corridor
   //     leaves the scan likelihood flat along it (config.h, along_track_prior).
   std::vector<double> motion_log_prior(leaders.size(), 0.0);
   for (size_t g = 0; config_.along_track_prior && g < leaders.size(); ++g) {
     motion_log_prior[g] = alongTrackLogPrior(particles_[leaders[g]].pose, proposed[leaders[g]],
                                              increment, config_.motion, kTranslationFailureNats);
+  }
+
+  // 4b. Weight and map update, once per group. Only the best particle's conflict figures are
+  //     reported, so a group whose highest new cumulative weight is already below another
+  //     group's skips the open-space pass (the best group never does, whatever the order).
+  std::vector<double> group_top(leaders.size(), -std::numeric_limits<double>::infinity());
+  for (size_t k = 0; k < n; ++k) {
+    double& top = group_top[group_of[k]];
+    if (!(particles_[k].cumulative_log_weight <= top)) top = particles_[k].cumulative_log_weight;
+  }
+  std::atomic<double> best_top(-std::numeric_limits<double>::infinity());
+  std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
+  std::vector<ScanConflict> conflict_stats(leaders.size());
+  pool_->run(leaders.size(), [&](size_t g, int worker) {
+    Particle& p = particles_[leaders[g]];
+    Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
+    log_pl[g] = beam_model->weighAndAccumulate(proposed[leaders[g]].compose(scan.sensor_pose),
+                                               scan, p.map, &ws.accumulator,
+                                               config_.sensor.weight_beam_stride);
+    // The same sum as 5.'s, so the comparison is exact (adding one number keeps the order).
+    const double top = group_top[g] + (exponent * log_pl[g] + motion_log_prior[g]);
+    double seen = best_top.load(std::memory_order_relaxed);
+    while (top > seen &&
+           !best_top.compare_exchange_weak(seen, top, std::memory_order_relaxed)) {
+    }
+    const bool may_be_best = !(top < seen);
+    conflict_added[g] = beam_model->applyScan(ws.accumulator, &p.map,
+                                              may_be_best ? &conflict_stats[g] : nullptr);
+  });
+  Profiler* const profiler = Profiler::active();
+  if (profiler != nullptr) {
+    profiler->count(ProfileCounter::kUpdates);
+    if (profiler->floor_enabled) replayFloor(profiler, *beam_model, scan, proposed, leaders);
   }
 
   // 5. Members take their leader's pose, map (shared tiles) and path node.
