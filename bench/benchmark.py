@@ -239,6 +239,11 @@ def run_mrpt(name, template, rawlog, gt, run_dir, seed, overrides, rbpf, path_ki
         return r
     est = best if path_kind == "best-particle" else mean
     r["poses"] = len(est)
+    try:  # filter updates: the steps log_times.txt marks as inserted
+        r["updates"] = sum(1 for v in _data_lines(os.path.join(log_dir, "log_times.txt"))
+                           if v[3] == "1")
+    except (OSError, IndexError):
+        r["updates"] = None
     if gt:
         r["ate_m"], r["ate_matched"] = ate_rmse(est, gt)
         # Both path definitions, whichever the table uses.
@@ -253,7 +258,7 @@ def ours_name(resolution):
 
 
 def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, resolution=None,
-             preset=None, params=()):
+             preset=None, params=(), profile=False):
     if os.path.isdir(run_dir):
         shutil.rmtree(run_dir)
     out_dir = os.path.join(run_dir, "out")
@@ -269,6 +274,8 @@ def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, res
         cmd += ["--preset", preset]
     for kv in params:
         cmd += ["--param", kv]
+    if profile:
+        cmd += ["--profile"]
     r = measured_run(cmd, run_dir)
     r.update(method=ours_name(resolution), seed=seed)
     if r["rc"] != 0:
@@ -286,6 +293,15 @@ def run_ours(binary, rawlog, gt_path, gt, run_dir, seed, particles, threads, res
     r["internal_peak_rss_mb"] = summary.get("peak_rss_mb")
     r["internal_ate_m"] = summary.get("ate_rmse_m")
     r["threads"] = summary.get("threads")
+    # Filter updates: every processed scan after the first (which initialises the particles).
+    r["updates"] = max(0, summary.get("scans_processed", 0) - 1)
+    r["groups_per_update"] = summary.get("groups_per_update")
+    if profile:
+        try:
+            with open(os.path.join(out_dir, "profile.txt")) as f:
+                r["profile"] = f.read()
+        except OSError:
+            r["profile"] = None
     est = read_tum(os.path.join(out_dir, "trajectory.tum"))
     r["poses"] = len(est)
     if gt:
@@ -335,6 +351,13 @@ def summarise(results, durations):
                                  default=None),
                 "ate_mean_path_m": median([r.get("ate_mean_path_m") for r in ok]),
                 "ate_best_particle_m": median([r.get("ate_best_particle_m") for r in ok]),
+                "updates": median([r.get("updates") for r in ok]),
+                # CPU time per particle and filter update, ms
+                "cpu_ms_per_particle_update": median([
+                    1e3 * r["cpu_time_s"] / (r["updates"] * info["K"]) for r in ok
+                    if r.get("updates")]),
+                "groups_per_update": median([r.get("groups_per_update") for r in ok]),
+                "profile": next((r["profile"] for r in ok if r.get("profile")), None),
             })
     return rows
 
@@ -388,9 +411,23 @@ def markdown(rows, runs, mrpt_path):
         if r.get("ate_best_particle_m") is not None:
             extra = "; median ATE of the mean path %s m, of the most likely particle's path %s m" \
                 % (fmt(r["ate_mean_path_m"], 3), fmt(r["ate_best_particle_m"], 3))
-        out.append("- %s / %s: CPU %s s, ATE %s .. %s m%s" % (
-            r["log"], r["method"], fmt(r["cpu_time_s"], 1), fmt(r["ate_m_min"], 3),
+        per_update = ""
+        if r.get("cpu_ms_per_particle_update") is not None:
+            per_update = ", %s ms per particle-update (%s updates%s)" % (
+                fmt(r["cpu_ms_per_particle_update"], 2), fmt(r["updates"], 0),
+                "" if r.get("groups_per_update") is None
+                else ", %s groups per update" % fmt(r["groups_per_update"], 1))
+        out.append("- %s / %s: CPU %s s%s, ATE %s .. %s m%s" % (
+            r["log"], r["method"], fmt(r["cpu_time_s"], 1), per_update, fmt(r["ate_m_min"], 3),
             fmt(r["ate_m_max"], 3), extra))
+    for r in rows:
+        if r.get("profile"):
+            out.append("")
+            out.append("Profile of %s / %s (the first run; `--profile`):" % (r["log"], r["method"]))
+            out.append("")
+            out.append("```")
+            out.extend(r["profile"].rstrip("\n").split("\n"))
+            out.append("```")
     return "\n".join(out) + "\n"
 
 
@@ -436,6 +473,9 @@ def parse_args(argv):
     p.add_argument("--mrpt-set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a key in both MRPT configs (repeatable), e.g. "
                         "enableLikelihoodCache=0")
+    p.add_argument("--profile", action="store_true",
+                   help="run ours with --profile: the update's time by section, ns per visited "
+                        "cell and the compute floor, in results.md (slower, more memory)")
     p.add_argument("--mrpt-path", choices=["mean", "best-particle"], default="mean",
                    help="MRPT path for the table's ATE: 'mean' = log_estimated_path.txt, the "
                         "particles' mean pose after every step; 'best-particle' = the most likely "
@@ -525,7 +565,7 @@ def main(argv):
                     run, a.runs, label, method, k), end="", flush=True)
                 if method.startswith("ours"):
                     r = run_ours(a.offline, rawlog, gt_path, gt, run_dir, run, k, a.threads, ini,
-                                 a.preset, a.param)
+                                 a.preset, a.param, a.profile)
                 else:
                     r = run_mrpt(method, ini, mrpt_rawlog, gt, run_dir, run, a.overrides,
                                  a.rbpf_slam, a.mrpt_path)

@@ -53,13 +53,15 @@ if(CATKIN_ENABLE_TESTING)
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/evidential_grid.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/mass.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/pose2.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/core/profile.cpp"
       "${ES_BUILD_INFO_CPP}")
     file(GLOB map_fuzz_headers CONFIGURE_DEPENDS
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/map_file.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/atomic_files.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/evidential_grid.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/mass.h"
-      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/pose2.h")
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/pose2.h"
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/profile.h")
     add_custom_command(OUTPUT "${ES_MAP_FUZZER_BIN}"
       COMMAND "${ES_CLANGXX}" -std=c++17 -O1 -g -fno-omit-frame-pointer
               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined

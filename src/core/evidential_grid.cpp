@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "evidential_slam/core/profile.h"
+
 namespace evidential_slam {
 
 const Cell EvidentialGridMap::kVacuousCell{};
@@ -126,6 +128,8 @@ void EvidentialGridMap::growIndex(int x0, int y0, int x1, int y1) {
 }
 
 EvidentialGridMap::Tile& EvidentialGridMap::mutableTileSlow(int tx, int ty) {
+  const ProfileTimer timer(ProfileSection::kTileClone);
+  if (Profiler* profiler = Profiler::active()) profiler->count(ProfileCounter::kTileClones);
   ensureTile(tx, ty);
   std::shared_ptr<Tile>& slot =
       tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];

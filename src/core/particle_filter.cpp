@@ -1,11 +1,13 @@
 #include "evidential_slam/core/particle_filter.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <unordered_set>
 
 #include "evidential_slam/core/motion_model.h"
+#include "evidential_slam/core/profile.h"
 #include "evidential_slam/core/scan_matcher.h"
 #include "evidential_slam/core/sensor_model.h"
 #include "evidential_slam/core/worker_pool.h"
@@ -381,31 +383,50 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     }
   }
 
-  // 4. Weight and map update (unless map updates are off), once per group.
-  std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
-  std::vector<ScanConflict> conflict_stats(leaders.size());
-  pool_->run(leaders.size(), [&](size_t g, int worker) {
-    Particle& p = particles_[leaders[g]];
-    const Pose2 sensor_pose = proposed[leaders[g]].compose(scan.sensor_pose);
-    if (!map_updates_) {
-      log_pl[g] = beam_model->logPlausibility(p.map, sensor_pose, scan,
-                                              config_.sensor.weight_beam_stride);
-      return;
-    }
-    Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-    const BeamModel::ScanEvidence evidence = beam_model->weighAndIntegrate(
-        sensor_pose, scan, &p.map, &ws.accumulator, config_.sensor.weight_beam_stride);
-    log_pl[g] = evidence.log_plausibility;
-    conflict_added[g] = evidence.conflict_added_bits;
-    conflict_stats[g] = evidence.conflict;
-  });
-
-  // 4b. Optionally the weights' motion prior, along the direction of travel only: a corridor
+  // 4a. Optionally the weights' motion prior, along the direction of travel only: a corridor
   //     leaves the scan likelihood flat along it (config.h, along_track_prior).
   std::vector<double> motion_log_prior(leaders.size(), 0.0);
   for (size_t g = 0; config_.along_track_prior && g < leaders.size(); ++g) {
     motion_log_prior[g] = alongTrackLogPrior(particles_[leaders[g]].pose, proposed[leaders[g]],
                                              increment, config_.motion, kTranslationFailureNats);
+  }
+
+  // 4b. Weight and map update (unless mapping is paused), once per group. Only the best particle's conflict figures are
+  //     reported, so a group whose highest new cumulative weight is already below another
+  //     group's skips the open-space pass (the best group never does, whatever the order).
+  std::vector<double> group_top(leaders.size(), -std::numeric_limits<double>::infinity());
+  for (size_t k = 0; k < n; ++k) {
+    double& top = group_top[group_of[k]];
+    if (!(particles_[k].cumulative_log_weight <= top)) top = particles_[k].cumulative_log_weight;
+  }
+  std::atomic<double> best_top(-std::numeric_limits<double>::infinity());
+  std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
+  std::vector<ScanConflict> conflict_stats(leaders.size());
+  pool_->run(leaders.size(), [&](size_t g, int worker) {
+    Particle& p = particles_[leaders[g]];
+    if (!map_updates_) {  // paused mapping: weigh only
+      log_pl[g] = beam_model->logPlausibility(p.map, proposed[leaders[g]].compose(scan.sensor_pose),
+                                              scan, config_.sensor.weight_beam_stride);
+      return;
+    }
+    Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
+    log_pl[g] = beam_model->weighAndAccumulate(proposed[leaders[g]].compose(scan.sensor_pose),
+                                               scan, p.map, &ws.accumulator,
+                                               config_.sensor.weight_beam_stride);
+    // The same sum as 5.'s, so the comparison is exact (adding one number keeps the order).
+    const double top = group_top[g] + (exponent * log_pl[g] + motion_log_prior[g]);
+    double seen = best_top.load(std::memory_order_relaxed);
+    while (top > seen &&
+           !best_top.compare_exchange_weak(seen, top, std::memory_order_relaxed)) {
+    }
+    const bool may_be_best = !(top < seen);
+    conflict_added[g] = beam_model->applyScan(ws.accumulator, &p.map,
+                                              may_be_best ? &conflict_stats[g] : nullptr);
+  });
+  Profiler* const profiler = Profiler::active();
+  if (profiler != nullptr) {
+    profiler->count(ProfileCounter::kUpdates);
+    if (profiler->floor_enabled) replayFloor(profiler, *beam_model, scan, proposed, leaders);
   }
 
   // 5. Members take their leader's pose, map (shared tiles) and path node.
@@ -439,7 +460,21 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   return info;
 }
 
+void ParticleFilter::replayFloor(Profiler* profiler, const BeamModel& beam_model,
+                                 const LaserScan& scan, const std::vector<Pose2>& proposed,
+                                 const std::vector<size_t>& leaders) {
+  Workspace& ws = *workspaces_.front();
+  std::vector<std::pair<int, int>> cells;
+  for (size_t g = 0; g < leaders.size(); ++g) {
+    beam_model.traceScan(proposed[leaders[g]].compose(scan.sensor_pose), scan, &ws.traced);
+    cells.clear();
+    for (const RayCell& c : ws.traced.cells) cells.emplace_back(c.x, c.y);
+    profiler->floorReplay(g, cells);
+  }
+}
+
 void ParticleFilter::resampleIfNeeded(FilterStepInfo* info) {
+  const ProfileTimer timer(ProfileSection::kResample);
   double max_log = -std::numeric_limits<double>::infinity();
   for (const Particle& p : particles_) max_log = std::max(max_log, p.log_weight);
   std::vector<double> w(particles_.size());

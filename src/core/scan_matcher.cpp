@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "evidential_slam/core/profile.h"
+
 namespace evidential_slam {
 namespace {
 constexpr double kKernelStepsPerCell2 = 64.0;
@@ -373,6 +375,7 @@ bool ScanMatcher::icpStep(const EvidentialGridMap& map, const std::vector<MatchP
 
 double ScanMatcher::translationConstraint(const EvidentialGridMap& map, const Pose2& pose,
                                           const std::vector<MatchPoint>& pts) const {
+  const ProfileTimer timer(ProfileSection::kConstraint);
   std::vector<Correspondence> correspondences(pts.size());
   Pose2 stepped = pose;
   Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
@@ -387,6 +390,7 @@ double ScanMatcher::translationConstraint(const EvidentialGridMap& map, const Po
 
 Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
                              const std::vector<MatchPoint>& pts) const {
+  const ProfileTimer timer(ProfileSection::kHillClimb);
   Pose2 current = start;
   double current_score = score(map, current, pts);
   double lin = config_.linear_step, ang = config_.angular_step;
@@ -422,6 +426,7 @@ Pose2 ScanMatcher::hillClimb(const EvidentialGridMap& map, const Pose2& start,
 
 bool ScanMatcher::icp(const EvidentialGridMap& map, const std::vector<MatchPoint>& pts,
                       Pose2* pose) const {
+  const ProfileTimer timer(ProfileSection::kIcp);
   std::vector<Correspondence> correspondences(pts.size());
   for (int it = 0; it < config_.icp_iterations; ++it) {
     const Pose2 before = *pose;

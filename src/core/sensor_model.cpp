@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <type_traits>
+
+#include "evidential_slam/core/profile.h"
 
 namespace evidential_slam {
 namespace {
@@ -174,32 +177,39 @@ size_t ScanAccumulator::touched() const {
 
 double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added) const {
   double added = 0.0, mass = 0.0;
-  const Block* tile_block = nullptr;
-  const EvidentialGridMap::Tile* shared = nullptr;
-  EvidentialGridMap::Tile* tile = nullptr;
-  forEachTouched([&](const Block& block, size_t k) {
-    if (&block != tile_block) {  // the blocks' cells come together: one tile lookup per block
-      tile_block = &block;
-      shared = map->tile(block.tile_x, block.tile_y);
-      tile = nullptr;
-    }
-    if (tile == nullptr) {
-      // A tile is taken for writing (cloned if shared) only at its first cell that the update
-      // changes: space observed free many times stays as it is under clearing beams, and a tile
-      // holding only such cells is neither copied nor written.
-      if (shared != nullptr && updateLeavesCell(shared->cells[k], block.mass[k])) return;
-      tile = &map->mutableTile(block.tile_x, block.tile_y);
-    }
-    ConflictIncrement increment;
-    const float conflict = updateCell(tile->cells[k], block.mass[k], &increment);
-    tile->cellWritten(static_cast<int>(k));
-    if (conflict <= 0.0f) return;
-    // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
-    // exp(-λ) K (exact increments; the stored λ is rounded).
-    added += increment.lambda_added;
-    if (conflict_mass_added != nullptr) mass += increment.one_minus_conflict_before * conflict;
-  });
+  {
+    const ProfileTimer timer(ProfileSection::kApplyScan);
+    const Block* tile_block = nullptr;
+    const EvidentialGridMap::Tile* shared = nullptr;
+    EvidentialGridMap::Tile* tile = nullptr;
+    forEachTouched([&](const Block& block, size_t k) {
+      if (&block != tile_block) {  // the blocks' cells come together: one tile lookup per block
+        tile_block = &block;
+        shared = map->tile(block.tile_x, block.tile_y);
+        tile = nullptr;
+      }
+      if (tile == nullptr) {
+        // A tile is taken for writing (cloned if shared) only at its first cell that the update
+        // changes: space observed free many times stays as it is under clearing beams, and a
+        // tile holding only such cells is neither copied nor written.
+        if (shared != nullptr && updateLeavesCell(shared->cells[k], block.mass[k])) return;
+        tile = &map->mutableTile(block.tile_x, block.tile_y);
+      }
+      ConflictIncrement increment;
+      const float conflict = updateCell(tile->cells[k], block.mass[k], &increment);
+      tile->cellWritten(static_cast<int>(k));
+      if (conflict <= 0.0f) return;
+      // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
+      // exp(-λ) K (exact increments; the stored λ is rounded).
+      added += increment.lambda_added;
+      if (conflict_mass_added != nullptr) mass += increment.one_minus_conflict_before * conflict;
+    });
+  }
   if (conflict_mass_added != nullptr) *conflict_mass_added = mass;
+  if (Profiler* profiler = Profiler::active()) {
+    profiler->count(ProfileCounter::kGroupsApplied);
+    profiler->count(ProfileCounter::kAppliedCells, touched());
+  }
   return added;
 }
 
@@ -331,6 +341,7 @@ void BeamModel::traverse(const Eigen::Vector2d& origin, double angle, double len
 
 double BeamModel::logPlausibility(const EvidentialGridMap& map, const Pose2& sensor_in_map,
                                   const LaserScan& scan, int stride) const {
+  const ProfileTimer timer(ProfileSection::kWideMatchForward);
   const Eigen::Vector2d origin = sensor_in_map.translation();
   double sum = 0.0;
   int hit_beams = 0;
@@ -416,24 +427,37 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
       addEvidence(scratch, c.x, c.y, c.distance, b.range, b.hit);
     }
   }
-  return applyScan(scratch, map, conflict);
+  return applyScan(*scratch, map, conflict);
 }
 
-double BeamModel::applyScan(ScanAccumulator* scratch, EvidentialGridMap* map,
+double BeamModel::applyScan(const ScanAccumulator& scratch, EvidentialGridMap* map,
                             ScanConflict* conflict) const {
-  if (conflict == nullptr) return scratch->applyTo(map) / kLn2;
+  if (conflict == nullptr) return scratch.applyTo(map) / kLn2;
   // Before the update: it reads the neighbours of the cells the update changes.
-  conflict->open_space_added = scratch->openSpaceConflict(*map, open_space_radius_);
-  return scratch->applyTo(map, &conflict->mass_added) / kLn2;
+  {
+    const ProfileTimer timer(ProfileSection::kOpenSpace);
+    conflict->open_space_added = scratch.openSpaceConflict(*map, open_space_radius_);
+  }
+  return scratch.applyTo(map, &conflict->mass_added) / kLn2;
 }
 
 BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
                                                      const LaserScan& scan, EvidentialGridMap* map,
                                                      ScanAccumulator* scratch, int stride) const {
   ScanEvidence out;
+  out.log_plausibility = weighAndAccumulate(sensor_in_map, scan, *map, scratch, stride);
+  out.conflict_added_bits = applyScan(*scratch, map, &out.conflict);
+  return out;
+}
+
+double BeamModel::weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan& scan,
+                                     const EvidentialGridMap& map, ScanAccumulator* scratch,
+                                     int stride) const {
+  std::optional<ProfileTimer> timer(std::in_place, ProfileSection::kWeighAccumulate);
   const Eigen::Vector2d origin = sensor_in_map.translation();
-  const CellIndex sensor_cell = map->worldToCell(origin.x(), origin.y());
+  const CellIndex sensor_cell = map.worldToCell(origin.x(), origin.y());
   scratch->reset(sensor_cell, windowHalfCells());
+  double log_plausibility = 0.0;
   int hit_beams = 0;
   uint64_t rays_bad = 0, rays_no_return = 0;  // counted by the engine (SlamEngine::stats)
   forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
@@ -441,17 +465,27 @@ BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
     const bool weigh = ray.hit && hit_beams++ % stride == 0;
     ForwardPass pass(config_);
     pass.stopped = !weigh;
-    CellReader cells(*map);  // the map is read only: it is updated after the traversal
+    CellReader cells(map);
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
       if (!pass.stopped) pass.visit(cells, cx, cy, d, hitWindow(z - d), z);
       addEvidence(scratch, cx, cy, d, z, ray.hit);
     });
     if (!weigh) return;
-    out.log_plausibility +=
+    log_plausibility +=
         std::log(pass.plausibility(hitWindow(z - config_.usable_range), config_.random_weight));
   });
-  out.conflict_added_bits = applyScan(scratch, map, &out.conflict);
-  return out;
+  if (Profiler* profiler = Profiler::active()) {
+    // The cells visited, counted by traversing the rays again (outside the timed section): a
+    // counter in the loop above cost the filter about 2 % when not profiling.
+    timer.reset();
+    uint64_t visited = 0;
+    forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
+      traverse(origin, ray.angle, ray.length, [&](int, int, float) { ++visited; });
+    });
+    profiler->count(ProfileCounter::kVisitedCells, visited);
+    profiler->count(ProfileCounter::kGroupsWeighed);
+  }
+  return log_plausibility;
 }
 
 }  // namespace evidential_slam

@@ -121,6 +121,7 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
       return out;
     }
     info = filter_->update(increment, scan, static_cast<int>(step_odometry_.size()));
+    stats_.group_updates += filter_->lastUpdateGroups();
   }
   have_last_processed_ = true;
   last_processed_odometry_ = odometry;

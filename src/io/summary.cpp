@@ -24,6 +24,10 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
   j["rays_no_return"] = s.rays_no_return;
   j["resamplings"] = s.resamplings;
   j["long_steps"] = s.long_steps;
+  // Updates: every processed scan but the first.
+  const double updates = s.scans_processed > 1 ? static_cast<double>(s.scans_processed - 1) : 1.0;
+  j["group_updates"] = s.group_updates;
+  j["groups_per_update"] = static_cast<double>(s.group_updates) / updates;
   j["wall_time_s"] = s.wall_time_s;
   j["slam_time_s"] = s.slam_time_s;
   j["peak_rss_mb"] = s.peak_rss_mb;

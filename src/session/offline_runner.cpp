@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "evidential_slam/core/metrics.h"
+#include "evidential_slam/core/profile.h"
 #include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"
@@ -182,6 +183,14 @@ int Run::execute() {
   if (opt_.max_scans > 0 && opt_.max_scans < total) total = opt_.max_scans;
   if (!opt_.quiet) progress_ = std::make_unique<ProgressBar>(err_, total, tty_);
 
+  // --profile: the filter reports its sections to this profiler while the log is processed.
+  std::unique_ptr<Profiler> profiler;
+  if (opt_.profile) {
+    profiler = std::make_unique<Profiler>();
+    profiler->floor_enabled = true;
+    Profiler::setActive(profiler.get());
+  }
+  const double cpu_before = processCpuSeconds();
   auto session = std::make_unique<MappingSession>(opt_.params);
   const std::string source = fs::weakly_canonical(fs::path(opt_.rawlog), ec).string();
   if (!opt_.load_map.empty() || opt_.has_initial_pose) {
@@ -229,6 +238,8 @@ int Run::execute() {
     if (progress_) progress_->update(given);
   }
   if (progress_) progress_->finish(given);
+  const double slam_cpu_s = processCpuSeconds() - cpu_before;
+  Profiler::setActive(nullptr);
 
   if (status == RawlogReader::Status::kTruncated || status == RawlogReader::Status::kError) {
     summary_.truncated = true;
@@ -257,6 +268,7 @@ int Run::execute() {
   summary_.rays_no_return = stats.rays_no_return;
   summary_.resamplings = stats.resamplings;
   summary_.long_steps = stats.long_steps;
+  summary_.group_updates = stats.group_updates;
   summary_.slam_time_s = slam_s;
   if (stats.rays_bad > 0) {
     warn(std::to_string(stats.rays_bad) +
@@ -316,6 +328,23 @@ int Run::execute() {
   summary_.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   summary_.peak_rss_mb = peakRssMb();
+  if (profiler) {
+    char line[160];
+    std::snprintf(line, sizeof(line),
+                  "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
+                  "update (floor replay included)\n",
+                  slam_cpu_s,
+                  1e3 * slam_cpu_s /
+                      std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
+    const std::string report = profiler->report() + line;
+    if (!outputs_.add(
+            (out_dir_ / "profile.txt").string(),
+            [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
+      return fail(kExitBadInput, why);
+    }
+    summary_.outputs.push_back("profile.txt");
+    std::fprintf(out_, "%s", report.c_str());
+  }
   const std::string summary_path = (out_dir_ / "summary.json").string();
   summary_.outputs.push_back("summary.json");
   // Every output replaces the previous run's only now, all together (atomic_files.h).
@@ -360,6 +389,13 @@ int Run::execute() {
 
 }  // namespace
 
+double processCpuSeconds() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 double peakRssMb() {
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
@@ -376,7 +412,7 @@ std::string offlineUsage(const std::string& program) {
          "       [--preset NAME] [--param NAME=VALUE]... [--particles K] [--seed N]\n"
          "       [--resolution M] [--threads N] [--first-scan N] [--max-scans N]\n"
          "       [--load-map DIR|FILE] [--initial-pose X,Y,YAW] [--laser-label L] [--quiet]\n"
-         "       [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
+         "       [--profile] [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
          "\n"
          "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
          "Writes DIR/map.evmap (the lossless map, for --load-map), DIR/trajectory.tum,\n"
@@ -403,6 +439,8 @@ std::string offlineUsage(const std::string& program) {
          "                        with --load-map: the pose saved in the map file\n"
          "  --laser-label L       use only scans with this sensor label\n"
          "  --quiet               no progress line and no warnings on stderr\n"
+         "  --profile             time the filter's update by section and measure its compute\n"
+         "                        floor (slower, more memory); report in DIR/profile.txt\n"
          "  --export-octomap      = --param export_octomap=true: also write\n"
          "                        DIR/octomap/map.{evidential.ot,bt,color.ot}\n"
          "  --octomap-z-min Z     = --param octomap_z_min=Z (the voxel slab's lowest height)\n"
@@ -455,10 +493,12 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       *help = true;
       return true;
     }
-    if (flag == "--quiet" || flag == "-q" || flag == "--export-octomap") {
+    if (flag == "--quiet" || flag == "-q" || flag == "--export-octomap" || flag == "--profile") {
       if (arg.has_value) return bad(flag + " takes no value");
       if (flag == "--export-octomap") {
         o->parameters.emplace_back("export_octomap", "true");
+      } else if (flag == "--profile") {
+        o->profile = true;
       } else {
         o->quiet = true;
       }

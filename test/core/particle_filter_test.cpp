@@ -226,6 +226,42 @@ TEST(ParticleFilterTest, ResampledChildrenAreWholeCopiesOfTheirParents) {
   EXPECT_GT(copies, 0u);  // some parent was drawn more than once
 }
 
+// The best particle's conflict figures are those of its scan on its map before the update, the
+// open-space part included, although groups that cannot hold the best particle skip that pass: a
+// scan taken 0.6 m from where the odometry puts it (no matcher) puts hits into the room's open
+// space. Without resampling the particles keep their indices, so the best particle's map before
+// the update is known.
+TEST(ParticleFilterTest, BestParticleConflictIncludesItsOpenSpacePart) {
+  for (const int threads : {1, 2}) {
+    SlamConfig config = unmergedConfig(8);
+    config.threads = threads;
+    config.matcher.enabled = false;
+    config.resample_threshold = 0.0;
+    ParticleFilter filter(config);
+    const Pose2 start(-1.0, 0.2, 0.0);
+    filter.initialize(start, roomScan(start), 0);
+    const std::vector<Particle> before = filter.particles();
+    const LaserScan scan = roomScan(start.compose(Pose2(0.6, 0.0, 0.0)));
+    const FilterStepInfo info = filter.update(Pose2(0.0, 0.0, 0.0), scan, 1);
+    ASSERT_FALSE(info.resampled);
+    ASSERT_FALSE(info.long_step);
+    ASSERT_EQ(filter.lastUpdateGroups(), 8u);
+    const size_t best = filter.bestIndex();
+
+    const BeamModel model(config.sensor.forSensorNoise(0.0, config.resolution), config.resolution);
+    EvidentialGridMap map = before[best].map;
+    TracedScan traced;
+    ScanAccumulator scratch;
+    ScanConflict expected;
+    model.traceScan(filter.particles()[best].pose.compose(scan.sensor_pose), scan, &traced);
+    const double bits = model.integrateScan(traced, &map, &scratch, &expected);
+    EXPECT_GT(expected.open_space_added, 0.0);
+    EXPECT_EQ(info.best_conflict.open_space_added, expected.open_space_added) << threads;
+    EXPECT_EQ(info.best_conflict.mass_added, expected.mass_added) << threads;
+    EXPECT_EQ(info.best_conflict_added_bits, bits) << threads;
+  }
+}
+
 // along_track_prior adds to each particle's weight the log prior of how far it went along the
 // odometry's direction: with the same seed the proposals are the same, so the weights differ by
 // exactly that (no resampling, so the particles stay in step).

@@ -8,8 +8,12 @@
 // functions are steep.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include "evidential_slam/core/evidential_grid.h"
@@ -605,6 +609,110 @@ TEST(IntegrateScanTest, UpdateKeepsOccupiedRowsTrue) {
   }
   EXPECT_GT(targets, 200u);
   EXPECT_LT(targets, 2000u);
+}
+
+// Cells in every state the map holds (vacuous, certainly free, certain, mixed, conflicted) against
+// scan masses of every kind (clearing, hit, Θ gap, vacuous, certain), seeded.
+std::vector<Cell> variedCells(std::mt19937* rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<Cell> cells = {Cell{},
+                             Cell::fromStored(0.0f, 1.0f, 0.0f),
+                             Cell::fromStored(1.0f, 0.0f, 0.0f),
+                             Cell::fromStored(1.0f, 0.0f, 7.5f),
+                             Cell::fromStored(0.0f, 1.0f, 0.01f),
+                             Cell::fromStored(0.3f, 0.3f, 2.0f)};
+  while (cells.size() < 4000) {
+    if (cells.size() % 10 == 0) {  // space seen free many times: clearing beams leave it as it is
+      cells.push_back(Cell::fromStored(0.0f, 1.0f, 0.0f));
+      continue;
+    }
+    const float o = u(*rng), e = u(*rng) * (1.0f - o);
+    cells.push_back(Cell::fromStored(o, e, u(*rng) < 0.5f ? 0.0f : 10.0f * u(*rng)));
+  }
+  return cells;
+}
+std::vector<ScanMass> variedScanMasses(std::mt19937* rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<ScanMass> masses = {ScanMass{},           ScanMass{0.0f, 0.8f}, ScanMass{0.8f, 0.0f},
+                                  ScanMass{1.0f, 0.0f}, ScanMass{0.0f, 1.0f}, ScanMass{0.1f, 0.7f}};
+  while (masses.size() < 4000) {
+    const float o = u(*rng) < 0.5f ? 0.0f : u(*rng);
+    masses.push_back(ScanMass{o, u(*rng) * (1.0f - o)});
+  }
+  return masses;
+}
+
+// applyTo leaves every cell as updateCell leaves it, λ included, and sums the
+// λ and m(∅) that updateCell's increments give; it keeps the tile's may-hold-occupied bits true
+// (no clear bit on a cell with m̃(o) > 0) and its occupied rows, once built, exact.
+TEST(IntegrateScanTest, ApplyToIsUpdateCellPerCell) {
+  std::mt19937 rng(11);
+  const std::vector<Cell> cells = variedCells(&rng);
+  const std::vector<ScanMass> masses = variedScanMasses(&rng);
+  EvidentialGridMap map(kRes);
+  std::uniform_int_distribution<int> coordinate(-40, 40);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    map.mutableCell(coordinate(rng), coordinate(rng)) = cells[i];
+  }
+  EvidentialGridMap::Tile::Rows scratch_rows;
+  for (int ty = -2; ty <= 1; ++ty) {
+    for (int tx = -2; tx <= 1; ++tx) {
+      if (const auto* t = map.tile(tx, ty)) t->occupiedRows(0.2f, &scratch_rows);  // built
+    }
+  }
+  EvidentialGridMap expected = map;
+  ScanAccumulator acc;
+  acc.reset(CellIndex{0, 0}, 64);
+  // The scan's fused mass per cell, fused here in the order of the adds (as the accumulator does).
+  std::map<std::pair<int, int>, ScanMass> scan;
+  for (size_t i = 0; i < masses.size(); ++i) {
+    const int x = coordinate(rng), y = coordinate(rng);
+    ASSERT_TRUE(acc.add(x, y, masses[i]));
+    const auto [it, first] = scan.emplace(std::make_pair(x, y), masses[i]);
+    if (!first) it->second = fuseDempster(it->second, masses[i]);
+  }
+  EvidentialGridMap applied = map;
+  double applied_mass = 0.0;
+  const double applied_lambda = acc.applyTo(&applied, &applied_mass);
+  double lambda_sum = 0.0, mass_sum = 0.0;
+  for (int y = -64; y < 64; ++y) {
+    for (int x = -64; x < 64; ++x) {
+      const auto it = scan.find(std::make_pair(x, y));
+      Cell c = expected.cell(x, y);
+      if (it == scan.end()) {
+        ASSERT_EQ(applied.cell(x, y), c);
+        continue;
+      }
+      ConflictIncrement inc;
+      const float k = updateCell(c, it->second, &inc);
+      ASSERT_EQ(applied.cell(x, y), c) << x << "," << y;
+      if (k > 0.0f) {
+        lambda_sum += inc.lambda_added;
+        mass_sum += inc.one_minus_conflict_before * k;
+      }
+    }
+  }
+  // Summed in another order here: equal to rounding.
+  EXPECT_NEAR(applied_lambda, lambda_sum, 1e-9 * std::max(1.0, lambda_sum));
+  EXPECT_NEAR(applied_mass, mass_sum, 1e-9 * std::max(1.0, mass_sum));
+  EXPECT_GT(lambda_sum, 1.0);
+  for (int ty = -2; ty <= 1; ++ty) {
+    for (int tx = -2; tx <= 1; ++tx) {
+      const EvidentialGridMap::Tile* t = applied.tile(tx, ty);
+      if (t == nullptr) continue;
+      EvidentialGridMap::Tile::Rows fresh;
+      const auto& rows = t->occupiedRows(0.2f, &fresh);
+      for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
+        const Cell& c = t->cells[static_cast<size_t>(k)];
+        if (!t->mayHoldOccupied(k)) {
+          ASSERT_EQ(c.occupied(), 0.0f) << k;  // a clear bit is exact
+        }
+        ASSERT_EQ(((rows[static_cast<size_t>(k >> 5)] >> (k & 31)) & 1u) != 0,
+                  c.occupied() >= 0.2f)
+            << k;
+      }
+    }
+  }
 }
 
 }  // namespace

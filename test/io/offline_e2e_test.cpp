@@ -157,6 +157,9 @@ TEST_F(OfflineE2E, ActionsSensoryFrameFixture) {
   EXPECT_EQ(j["scans_total"], kFixtureScans);
   EXPECT_EQ(j["long_steps"], 0);  // off in the default (simulation) configuration
   EXPECT_GT(j["scans_processed"].get<int>(), 20);
+  // Every update weighs and updates between 1 group and one per particle (K = 20).
+  EXPECT_GE(j["groups_per_update"].get<double>(), 1.0);
+  EXPECT_LE(j["groups_per_update"].get<double>(), 20.0);
   EXPECT_EQ(j["scans_rejected"], 0);
   EXPECT_EQ(j["rays_total"], kFixtureScans * 181);
   EXPECT_EQ(j["rays_bad"], 0);
@@ -551,6 +554,27 @@ TEST_F(OfflineE2E, BadMapsAndSlices) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("159 usable scans"), std::string::npos) << r.err;
+}
+
+// --profile writes profile.txt with the update's sections, the ns per visited cell and the compute
+// floor, and leaves the results as they are without it (the same trajectory, byte for byte).
+TEST_F(OfflineE2E, ProfileReportsSectionsAndLeavesResultsAlone) {
+  const fs::path plain = scratch_ / "plain", profiled = scratch_ / "profiled";
+  const std::vector<std::string> args = {"--rawlog", dataPath("sim.rawlog"), "--max-scans", "40"};
+  Result r = runOffline(concat(concat(args, {"--out", plain.string()}), kFast), scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runOffline(concat(concat(args, {"--out", profiled.string(), "--profile"}), kFast), scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string report = test::readText(profiled / "profile.txt");
+  for (const char* line :
+       {"traversal: forward model + evidence", "applying the scan to the map",
+        "hill climb (scan matcher score)", "ns per visited cell", "floor:", "visited_cells",
+        "process CPU"}) {
+    EXPECT_NE(report.find(line), std::string::npos) << line << "\n" << report;
+  }
+  EXPECT_NE(r.out.find("ns per visited cell"), std::string::npos) << r.out;
+  EXPECT_EQ(test::readText(plain / "trajectory.tum"), test::readText(profiled / "trajectory.tum"));
+  EXPECT_FALSE(fs::exists(plain / "profile.txt"));
 }
 
 // Regression on a real robot: Radish's ACES log (440 scans, 22 minutes) with its raw wheel odometry

@@ -427,6 +427,7 @@ TEST(Summary, JsonHasTheDocumentedKeys) {
   s.scans_processed = 7;
   s.rays_bad = 3;
   s.long_steps = 4;
+  s.group_updates = 30;  // over 6 updates (7 processed scans, the first initialises)
   s.truncated = true;
   s.warnings = {"one", "two"};
   s.ate = AteSummary{0.25, 0.5, 10};
@@ -441,6 +442,8 @@ TEST(Summary, JsonHasTheDocumentedKeys) {
   }
   EXPECT_EQ(j["scans_total"], 10);
   EXPECT_EQ(j["long_steps"], 4);
+  EXPECT_EQ(j["group_updates"], 30);
+  EXPECT_DOUBLE_EQ(j["groups_per_update"].get<double>(), 5.0);
   EXPECT_EQ(j["truncated"], true);
   EXPECT_EQ(j["warnings"].size(), 2u);
   EXPECT_DOUBLE_EQ(j["ate_rmse_m"].get<double>(), 0.25);

@@ -17,6 +17,7 @@
 namespace evidential_slam {
 
 class BeamModel;
+class Profiler;
 class WorkerPool;
 struct TracedScan;
 
@@ -95,6 +96,9 @@ class ParticleFilter {
   struct Workspace;
   struct ScanModels;
   void resampleIfNeeded(FilterStepInfo* info);
+  // The profiler's floor replay (profile.h) of every group's beams at this update.
+  void replayFloor(Profiler* profiler, const BeamModel& beam_model, const LaserScan& scan,
+                   const std::vector<Pose2>& proposed, const std::vector<size_t>& leaders);
   // Wide-basin match (matcher.heading_window > 0), in three parts. nominalMatch: ICP from the
   // odometry prediction on a hypothesis's map, the forward model's log plausibility there (the
   // beams of `hits`), and whether that settles it (it explains the scan, or nothing matched from

@@ -182,10 +182,19 @@ class BeamModel {
   };
   // traceScan, scanLogPlausibility (every `stride`-th hit beam) and integrateScan in one traversal
   // of the beams, with the same results: the weight reads the map before the scan is applied.
-  // This is the filter's per-particle step; it never stores the traced cells.
+  // It never stores the traced cells. = weighAndAccumulate, then applyScan.
   ScanEvidence weighAndIntegrate(const Pose2& sensor_in_map, const LaserScan& scan,
                                  EvidentialGridMap* map, ScanAccumulator* scratch,
                                  int stride) const;
+  // weighAndIntegrate in two halves. weighAndAccumulate: the traversal, returning the scan's log plausibility on `map` (every
+  // `stride`-th hit beam) and leaving the scan's evidence in `scratch`; `map` is not written.
+  double weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan& scan,
+                            const EvidentialGridMap& map, ScanAccumulator* scratch,
+                            int stride) const;
+  // applyScan: applies the evidence in `scratch` to `map` (the map it was accumulated on);
+  // returns the EC added (bits) and, if asked, the conflict measures (ScanConflict).
+  double applyScan(const ScanAccumulator& scratch, EvidentialGridMap* map,
+                   ScanConflict* conflict) const;
 
   // Distance past the hit that a hit beam is traced (and its cells updated).
   double traceBeyondHit() const { return beyond_hit_; }
@@ -220,8 +229,6 @@ class BeamModel {
     if (m.occupied == 0.0f && m.free == 0.0f) return;  // vacuous: nothing to add
     scratch->add(cx, cy, m);
   }
-  // Applies the accumulated scan to `map`; EC added in bits, and the conflict measures if asked.
-  double applyScan(ScanAccumulator* scratch, EvidentialGridMap* map, ScanConflict* conflict) const;
   // Half of the accumulator window: the longest ray, in cells.
   int windowHalfCells() const;
 

@@ -25,6 +25,9 @@ struct SlamStats {
   uint64_t rays_no_return = 0;   // rays flagged as no return
   uint64_t resamplings = 0;
   uint64_t long_steps = 0;  // processed scans after a long step (SlamConfig::isLongStep)
+  // Groups of particles weighed and updated, summed over the updates
+  // (ParticleFilter::lastUpdateGroups).
+  uint64_t group_updates = 0;
 };
 
 // The particle set at the latest scan, summarised: weighted mean and covariance of (x, y, θ)

@@ -60,6 +60,9 @@ struct RunSummary {
   uint64_t rays_no_return = 0;
   uint64_t resamplings = 0;
   uint64_t long_steps = 0;  // processed scans after a long step (SlamConfig::isLongStep)
+  // Groups of particles (one map, one pose) weighed and updated, summed over the filter's updates
+  // (written as the total and per update).
+  uint64_t group_updates = 0;
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;  // inside processScan only
   double peak_rss_mb = 0.0;

@@ -44,6 +44,7 @@ struct OfflineOptions {
   bool has_initial_pose = false;  // --initial-pose x,y,yaw (map frame); without --load-map: the
   Pose2 initial_pose;             // first scan's pose on an empty map
   bool quiet = false;                // no progress line, no per-scan warnings
+  bool profile = false;              // --profile: time the update's sections (profile.h)
   double ate_max_dt = 0.05;          // s, timestamp association window for the ATE
 };
 
@@ -64,6 +65,8 @@ int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bo
 
 // Peak resident set size of this process so far, MB (getrusage).
 double peakRssMb();
+// CPU time (user + system) of this process so far, s (getrusage).
+double processCpuSeconds();
 
 }  // namespace io
 }  // namespace evidential_slam
