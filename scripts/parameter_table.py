@@ -7,8 +7,9 @@ Markdown tables of the docs made from them.
   scripts/parameter_table.py check FILE... [--junit XML]
                                                fail when a generated block differs
 
-A generated block lies between `<!-- BEGIN GENERATED: parameters -->` and
-`<!-- END GENERATED: parameters -->`. cfg/EvidentialSlam.cfg imports this module too.
+A generated block lies between `<!-- BEGIN GENERATED: NAME -->` and `<!-- END GENERATED: NAME -->`,
+NAME `parameters` (the SLAM's lists) or `explorer-parameters` (the explorer's lists); a file holds
+one or both. cfg/EvidentialSlam.cfg imports this module too.
 """
 import csv
 import io
@@ -19,8 +20,8 @@ import xml.etree.ElementTree as ET
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 DEF_FILE = os.path.join(HERE, "..", "include", "evidential_slam", "core", "parameters.def")
-BEGIN = "<!-- BEGIN GENERATED: parameters -->"
-END = "<!-- END GENERATED: parameters -->"
+BEGIN = "<!-- BEGIN GENERATED: %s -->"
+END = "<!-- END GENERATED: %s -->"
 
 # Lists in the order the docs show them, with their heading.
 GROUPS = [
@@ -33,6 +34,16 @@ GROUPS = [
     ("SESSION", "session", "Scan order and saved maps"),
     ("NODE", "node", "ROS node only"),
 ]
+# The explorer's lists (core/exploration, the explorer node), documented in docs/exploration.md.
+EXPLORER_GROUPS = [
+    ("EXPLORER_CELL", "cells", "Cell classes"),
+    ("EXPLORER_GOAL", "goals", "Frontiers and goals"),
+    ("EXPLORER", "explorer", "Replanning and blacklisting"),
+    ("EXPLORER_PLANNER", "planner", "Path planner"),
+    ("EXPLORER_PURSUIT", "pursuit", "Pure pursuit"),
+    ("EXPLORER_NODE", "explorer_node", "Explorer node only"),
+]
+BLOCKS = {"parameters": GROUPS, "explorer-parameters": EXPLORER_GROUPS}
 FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
 
 
@@ -84,10 +95,10 @@ def range_text(row):
     return "%s – %s" % (row.min, row.max)
 
 
-def markdown():
+def markdown(groups=GROUPS):
     out = []
     all_rows = rows()
-    for key, _, title in GROUPS:
+    for key, _, title in groups:
         group = [r for r in all_rows if r.group == key]
         if not group:
             continue
@@ -103,12 +114,18 @@ def markdown():
     return "\n".join(out).rstrip("\n") + "\n"
 
 
-def replace_block(text, block):
-    if BEGIN not in text or END not in text:
-        return None
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    return head + BEGIN + "\n" + block + END + tail
+def replace_blocks(text):
+    """The text with every generated block rewritten; None when it holds none."""
+    found = False
+    for name, groups in BLOCKS.items():
+        begin, end = BEGIN % name, END % name
+        if begin not in text or end not in text:
+            continue
+        found = True
+        head, rest = text.split(begin, 1)
+        _, tail = rest.split(end, 1)
+        text = head + begin + "\n" + markdown(groups) + end + tail
+    return text if found else None
 
 
 def main(argv):
@@ -127,12 +144,11 @@ def main(argv):
             junit = args.pop(0)
         else:
             files.append(a)
-    block = markdown()
     failures = []
     for path in files:
         with open(path, encoding="utf-8") as f:
             text = f.read()
-        new = replace_block(text, block)
+        new = replace_blocks(text)
         if new is None:
             failures.append("%s: no generated parameter block" % path)
         elif argv[0] == "update":

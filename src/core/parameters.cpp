@@ -35,9 +35,11 @@ bool parseNumber(const std::string& text, int* out) {
 const char* const kNodeParameterNames[] = {ES_NODE_PARAMETERS(ES_NODE_PARAMETER_NAME, )};
 #undef ES_NODE_PARAMETER_NAME
 
+}  // namespace
+
 std::string valueText(int v) { return std::to_string(v); }
 std::string valueText(bool v) { return v ? "true" : "false"; }
-// The shortest text that reads back as the same double.
+std::string valueText(const std::string& v) { return v; }
 std::string valueText(double v) {
   char text[40];
   for (int precision = 1; precision <= 17; ++precision) {
@@ -46,8 +48,6 @@ std::string valueText(double v) {
   }
   return text;
 }
-
-}  // namespace
 
 bool inRange(const ParameterSpec& spec, double value, std::string* why) {
   if (std::isfinite(value) && value >= spec.min && value <= spec.max) return true;

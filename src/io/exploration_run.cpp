@@ -67,6 +67,12 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
   const std::vector<uint8_t> reachable =
       exploration::reachableFreeCells(truth, start.translation());
   for (uint8_t cell : reachable) r.reachable_cells += cell;
+  r.gap_band_m = exploration::thetaGapBand(
+      config.slam.sensor.free_gap, std::max(config.slam.sensor.hit_sigma, sim_config.range_noise),
+      config.slam.resolution);
+  const std::vector<uint8_t> beyond_gap =
+      exploration::cellsBeyondBand(truth, reachable, r.gap_band_m);
+  for (uint8_t cell : beyond_gap) r.reachable_cells_beyond_gap += cell;
   r.min_wall_distance_m = 1.0;
 
   std::shared_ptr<const LayerRaster> raster;
@@ -78,6 +84,8 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     if (r.time_to_90_s < 0.0 && covered >= 0.90) r.time_to_90_s = t;
     if (r.time_to_99_s < 0.0 && covered >= 0.99) r.time_to_99_s = t;
     r.final_coverage = covered;
+    r.final_coverage_beyond_gap =
+        exploration::knownFraction(truth, beyond_gap, *raster, start);
   };
 
   SimulatedScan scan;
@@ -151,17 +159,22 @@ bool writeExplorationJson(const std::string& path, const ExplorationRunResult& r
   j["stop_reason"] = r.stop_reason;
   j["done"] = r.done;
   j["scans"] = r.scans;
-  j["scans_processed"] = r.scans_processed;
   j["reachable_cells"] = r.reachable_cells;
+  j["gap_band_m"] = r.gap_band_m;
+  j["reachable_cells_beyond_gap"] = r.reachable_cells_beyond_gap;
+  j["final_coverage_beyond_gap"] = r.final_coverage_beyond_gap;
   j["final_position_error_m"] = r.final_position_error_m;
   j["wall_time_s"] = r.wall_time_s;
-  j["slam_time_s"] = r.slam_time_s;
-  j["explorer_time_s"] = r.explorer_time_s;
-  j["goals"] = {{"chosen", r.explorer_stats.goals_chosen},
-                {"reached", r.explorer_stats.goals_reached},
-                {"no_path", r.explorer_stats.goals_no_path},
-                {"no_progress", r.explorer_stats.goals_no_progress},
-                {"replans", r.explorer_stats.replans}};
+  if (r.internals_measured) {
+    j["scans_processed"] = r.scans_processed;
+    j["slam_time_s"] = r.slam_time_s;
+    j["explorer_time_s"] = r.explorer_time_s;
+    j["goals"] = {{"chosen", r.explorer_stats.goals_chosen},
+                  {"reached", r.explorer_stats.goals_reached},
+                  {"no_path", r.explorer_stats.goals_no_path},
+                  {"no_progress", r.explorer_stats.goals_no_progress},
+                  {"replans", r.explorer_stats.replans}};
+  }
   return writeFileAtomically(
       path, [&](std::ostream& out) { return static_cast<bool>(out << j.dump(2) << '\n'); }, error);
 }

@@ -73,6 +73,22 @@ TEST(Coverage, DistanceToTheNearestObstacle) {
   EXPECT_NEAR(distanceToObstacle(truth, {0.3, 0.7}, 1.0), 0.5, 1e-12);
 }
 
+TEST(Coverage, ThetaGapBandLeavesOutTheCellsNextToWalls) {
+  // The defaults: 3 sigma of 0.025 m in front of a hit, on 0.05 m cells: 0.075 + 0.05.
+  EXPECT_NEAR(thetaGapBand(3.0, 0.025, 0.05), 0.125, 1e-12);
+  const OccupancyImage truth = splitRoom();  // the wall spans x in [-0.1, 0.0)
+  const std::vector<uint8_t> reachable = reachableFreeCells(truth, {0.45, 0.25});
+  // The right part's cols 5..9 have centres 0.05, 0.15, ... m from the wall's face.
+  std::vector<uint8_t> beyond = cellsBeyondBand(truth, reachable, 0.125);
+  EXPECT_EQ(std::count(beyond.begin(), beyond.end(), 1), 24);  // col 5 left out
+  EXPECT_EQ(beyond[truth.geometry.index(5, 2)], 0);
+  EXPECT_EQ(beyond[truth.geometry.index(6, 2)], 1);
+  beyond = cellsBeyondBand(truth, reachable, 0.2);
+  EXPECT_EQ(std::count(beyond.begin(), beyond.end(), 1), 18);  // cols 5 and 6 left out
+  beyond = cellsBeyondBand(truth, reachable, 0.0);
+  EXPECT_EQ(beyond, reachable);
+}
+
 }  // namespace
 }  // namespace exploration
 }  // namespace evidential_slam

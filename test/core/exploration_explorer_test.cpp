@@ -100,7 +100,7 @@ TEST(Explorer, TheStrategiesChooseDifferentFrontiers) {
   ns.update(0.0, robot, map);
   ASSERT_TRUE(ns.hasGoal());
   EXPECT_TRUE(ns.goal().goal.isApprox(Eigen::Vector2d(1.55, 3.95))) << ns.goal().goal.transpose();
-  config.frontiers.strategy = Strategy::kFrontier;
+  config.frontiers.strategy = "frontier";
   Explorer baseline(config);
   baseline.update(0.0, robot, map);
   ASSERT_TRUE(baseline.hasGoal());
@@ -222,15 +222,15 @@ TEST(Explorer, BadConfigIsRejectedWithAReason) {
   EXPECT_TRUE(c.isValid(&why)) << why;
   c.planner_frequency = 0.0;
   EXPECT_FALSE(c.isValid(&why));
-  EXPECT_EQ(why, "planner_frequency must be > 0 (Hz)");
+  EXPECT_EQ(why, "planner_frequency must be in [0.01, 100] Hz");
   c = ExplorerConfig();
   c.pursuit.lookahead = -1.0;
   EXPECT_FALSE(c.isValid(&why));
-  EXPECT_EQ(why, "lookahead must be > 0 (m)");
+  EXPECT_EQ(why, "lookahead must be in [0.01, 10] m");
   c = ExplorerConfig();
   c.planner.robot_radius = std::nan("");
   EXPECT_FALSE(c.isValid(&why));
-  EXPECT_EQ(why, "robot_radius must be >= 0 (m)");
+  EXPECT_EQ(why, "robot_radius must be in [0, 10] m");
 }
 
 }  // namespace

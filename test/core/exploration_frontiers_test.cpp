@@ -179,7 +179,7 @@ TEST(Frontiers, HallPocketAndDoorClustersAndScoresByHand) {
   EXPECT_NEAR(door.path_cost, 1.9, 1e-5);
 
   // explore_lite's cost: potential_scale · min_distance · res − gain_scale · cells · res.
-  config.strategy = Strategy::kFrontier;
+  config.strategy = "frontier";
   scoreFrontiers(r, classes, config, &f);
   EXPECT_NEAR(pocket.utility, -(1e-3 * 1.4 * 0.1 - 31 * 0.1), 1e-12);
   EXPECT_NEAR(door.utility, -(1e-3 * 1.9 * 0.1 - 11 * 0.1), 1e-12);
@@ -192,7 +192,7 @@ TEST(Frontiers, HallPocketAndDoorClustersAndScoresByHand) {
   // (rays within atan(0.05 / 0.55) = 5.2° of the wall row on either side: 2 × 5.2/180 × 2π),
   // 5.92 m², plus the hall's half disc below, less the same wedges and the 2 × 0.52 m² beyond
   // the side walls, at NS 0.2: 0.98 m²; 6.9 m².
-  config.strategy = Strategy::kNonSpecificity;
+  config.strategy = "ns";
   config.gain_range = 2.0;
   scoreFrontiers(r, classes, config, &f);
   EXPECT_NEAR(pocket.gain, 2.48, 0.1 * 2.48);
@@ -271,6 +271,13 @@ TEST(Frontiers, StrategyNamesAndBadConfig) {
   c.gain_range = std::nan("");
   EXPECT_FALSE(c.isValid(&why));
   EXPECT_NE(why.find("gain_range"), std::string::npos);
+  c = FrontierConfig();
+  EXPECT_EQ(c.kind(), Strategy::kNonSpecificity);
+  c.strategy = "frontier";
+  EXPECT_EQ(c.kind(), Strategy::kFrontier);
+  c.strategy = "nearest";
+  EXPECT_FALSE(c.isValid(&why));
+  EXPECT_EQ(why, "strategy must be ns or frontier, not 'nearest'");
 }
 
 }  // namespace

@@ -87,6 +87,12 @@ bool inRange(const ParameterSpec& spec, const std::string& value, std::string* w
 bool setParameter(const std::string& name, const std::string& value, Parameters* params,
                   std::string* why);
 
+// A parameter's value as the text its parser reads back (doubles: the shortest exact text).
+std::string valueText(int v);
+std::string valueText(double v);
+std::string valueText(bool v);
+std::string valueText(const std::string& v);
+
 // Every shared parameter's value as text (for summaries and map files), in table order.
 std::vector<std::pair<std::string, std::string>> parameterValues(const Parameters& p);
 

@@ -52,11 +52,20 @@ struct ExplorationRunResult {
   uint64_t scans = 0;
   uint64_t scans_processed = 0;
   uint64_t reachable_cells = 0;  // free cells of the image reachable from the start
+  // The same share over the reachable cells further than gap_band_m from every wall
+  // (exploration::thetaGapBand of the SLAM's sensor model): the inverse model never marks the
+  // band itself free.
+  double gap_band_m = 0.0;
+  uint64_t reachable_cells_beyond_gap = 0;
+  double final_coverage_beyond_gap = 0.0;
   double final_position_error_m = 0.0;  // SLAM pose against the truth at the end
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;     // inside processScan
   double explorer_time_s = 0.0;  // raster extraction and Explorer::update
   exploration::ExplorerStats explorer_stats;
+  // False when the run was watched from outside (the ROS monitor): processing times, scans
+  // processed and the goal counts were not measured and are left out of exploration.json.
+  bool internals_measured = true;
   std::shared_ptr<const LayerRaster> final_map;  // the best map at the end, as a raster
   Pose2 start_pose;                              // the robot's true start (the map frame)
 };

@@ -2,23 +2,19 @@
 
 #include <cmath>
 
+#include "evidential_slam/core/parameters.h"
+
 namespace evidential_slam {
 namespace exploration {
 
 bool CellClassConfig::isValid(std::string* why) const {
-  auto fail = [why](const char* what) {
-    if (why != nullptr) *why = what;
+  bool ok = true;
+  ES_EXPLORER_CELL_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  if (ok && unknown_ns < free_ns) {
+    if (why != nullptr) *why = "unknown_ns must not be below free_ns";
     return false;
-  };
-  if (!(occupied_betp > 0.5 && occupied_betp <= 1.0)) {
-    return fail("occupied_betp must be in (0.5, 1]");
   }
-  if (!(free_betp >= 0.0 && free_betp < 0.5)) return fail("free_betp must be in [0, 0.5)");
-  if (!(free_ns > 0.0 && free_ns <= 1.0)) return fail("free_ns must be in (0, 1]");
-  if (!(unknown_ns >= free_ns && unknown_ns <= 1.0)) {
-    return fail("unknown_ns must be in [free_ns, 1]");
-  }
-  return true;
+  return ok;
 }
 
 CellClass classifyCell(double betp, double ns, const CellClassConfig& c) {

@@ -48,6 +48,22 @@ double distanceToObstacle(const OccupancyImage& truth, const Eigen::Vector2d& p,
   return nearest;
 }
 
+double thetaGapBand(double free_gap, double hit_sigma, double resolution) {
+  return free_gap * hit_sigma + resolution;
+}
+
+std::vector<uint8_t> cellsBeyondBand(const OccupancyImage& truth, const std::vector<uint8_t>& cells,
+                                     double band) {
+  const GridGeometry& g = truth.geometry;
+  std::vector<uint8_t> out(cells.size(), 0);
+  // A cap just above the band: "none within the band" reads as the cap.
+  const double cap = band + 0.5 * g.resolution;
+  for (int i = 0; i < g.size(); ++i) {
+    if (cells[i] && distanceToObstacle(truth, g.center(i), cap) > band) out[i] = 1;
+  }
+  return out;
+}
+
 double knownFraction(const OccupancyImage& truth, const std::vector<uint8_t>& reachable,
                      const LayerRaster& map, const Pose2& map_in_truth, double max_ns) {
   const GridGeometry& g = truth.geometry;

@@ -4,29 +4,16 @@
 #include <cmath>
 #include <cstdio>
 
+#include "evidential_slam/core/parameters.h"
+
 namespace evidential_slam {
 namespace exploration {
 
 bool ExplorerConfig::isValid(std::string* why) const {
-  if (!cells.isValid(why) || !frontiers.isValid(why) || !planner.isValid(why) ||
-      !pursuit.isValid(why)) {
-    return false;
-  }
-  auto fail = [why](const char* what) {
-    if (why != nullptr) *why = what;
-    return false;
-  };
-  auto finite_at_least = [](double v, double min) { return std::isfinite(v) && v >= min; };
-  if (!(planner_frequency > 0.0) || !std::isfinite(planner_frequency)) {
-    return fail("planner_frequency must be > 0 (Hz)");
-  }
-  if (!(progress_timeout > 0.0) || !std::isfinite(progress_timeout)) {
-    return fail("progress_timeout must be > 0 (s)");
-  }
-  if (!finite_at_least(progress_distance, 0.0)) return fail("progress_distance must be >= 0 (m)");
-  if (!finite_at_least(blacklist_radius, 0.0)) return fail("blacklist_radius must be >= 0 (m)");
-  if (!finite_at_least(goal_switch_margin, 0.0)) return fail("goal_switch_margin must be >= 0");
-  return true;
+  bool ok = cells.isValid(why) && frontiers.isValid(why) && planner.isValid(why) &&
+            pursuit.isValid(why);
+  ES_EXPLORER_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  return ok;
 }
 
 Explorer::Explorer(const ExplorerConfig& config) : config_(config) {}

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "evidential_slam/core/parameters.h"
+
 namespace evidential_slam {
 namespace exploration {
 namespace {
@@ -73,25 +75,21 @@ const char* strategyName(Strategy strategy) {
   return strategy == Strategy::kNonSpecificity ? "ns" : "frontier";
 }
 
+Strategy FrontierConfig::kind() const {
+  Strategy s = Strategy::kNonSpecificity;
+  parseStrategy(strategy, &s);
+  return s;
+}
+
 bool FrontierConfig::isValid(std::string* why) const {
-  auto fail = [why](const char* what) {
-    if (why != nullptr) *why = what;
+  bool ok = true;
+  ES_EXPLORER_GOAL_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  Strategy s;
+  if (ok && !parseStrategy(strategy, &s)) {
+    if (why != nullptr) *why = "strategy must be ns or frontier, not '" + strategy + "'";
     return false;
-  };
-  auto finite_at_least = [](double v, double min) { return std::isfinite(v) && v >= min; };
-  if (!finite_at_least(min_frontier_size, 0.0)) return fail("min_frontier_size must be >= 0 (m)");
-  if (!(gain_range > 0.0) || !std::isfinite(gain_range)) return fail("gain_range must be > 0 (m)");
-  if (gain_rays < 4) return fail("gain_rays must be >= 4");
-  if (!finite_at_least(distance_decay, 0.0)) return fail("distance_decay must be >= 0 (1/m)");
-  if (!finite_at_least(potential_scale, 0.0)) return fail("potential_scale must be >= 0");
-  if (!finite_at_least(gain_scale, 0.0)) return fail("gain_scale must be >= 0");
-  if (!finite_at_least(revisit_ec_threshold, 0.0) || revisit_ec_threshold == 0.0) {
-    return fail("revisit_ec_threshold must be > 0 (bits)");
   }
-  if (revisit_min_cells < 1) return fail("revisit_min_cells must be >= 1");
-  if (!finite_at_least(revisit_weight, 0.0)) return fail("revisit_weight must be >= 0");
-  if (!finite_at_least(revisit_standoff, 0.0)) return fail("revisit_standoff must be >= 0 (m)");
-  return true;
+  return ok;
 }
 
 std::vector<Frontier> findFrontiers(const GridGeometry& g, const std::vector<CellClass>& classes,
@@ -202,6 +200,7 @@ void placeGoals(const GridGeometry& g, const std::vector<CellClass>& classes,
 void scoreFrontiers(const LayerRaster& raster, const std::vector<CellClass>& classes,
                     const FrontierConfig& config, std::vector<Frontier>* frontiers) {
   const double res = raster.resolution;
+  const Strategy strategy = config.kind();
   for (Frontier& f : *frontiers) {
     if (!f.reachable) {
       f.utility = -std::numeric_limits<double>::infinity();
@@ -210,7 +209,7 @@ void scoreFrontiers(const LayerRaster& raster, const std::vector<CellClass>& cla
     const double discount = std::exp(-config.distance_decay * f.path_cost);
     if (f.revisit) {
       f.utility = config.revisit_weight * f.gain * discount;
-    } else if (config.strategy == Strategy::kNonSpecificity) {
+    } else if (strategy == Strategy::kNonSpecificity) {
       f.gain = visibleNonSpecificity(raster, classes, f.goal, config.gain_range, config.gain_rays);
       f.utility = f.gain * discount;
     } else {

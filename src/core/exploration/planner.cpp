@@ -7,6 +7,8 @@
 #include <queue>
 #include <utility>
 
+#include "evidential_slam/core/parameters.h"
+
 namespace evidential_slam {
 namespace exploration {
 namespace {
@@ -109,21 +111,13 @@ double octile(const GridGeometry& g, int a, int b) {
 }  // namespace
 
 bool PlannerConfig::isValid(std::string* why) const {
-  auto fail = [why](const char* what) {
-    if (why != nullptr) *why = what;
+  bool ok = true;
+  ES_EXPLORER_PLANNER_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  if (ok && inflation_radius < robot_radius) {
+    if (why != nullptr) *why = "inflation_radius must not be below robot_radius";
     return false;
-  };
-  if (!(robot_radius >= 0.0) || !std::isfinite(robot_radius)) {
-    return fail("robot_radius must be >= 0 (m)");
   }
-  if (!(inflation_radius >= robot_radius) || !std::isfinite(inflation_radius)) {
-    return fail("inflation_radius must be >= robot_radius (m)");
-  }
-  if (!(cost_scaling_factor >= 0.0) || !std::isfinite(cost_scaling_factor)) {
-    return fail("cost_scaling_factor must be >= 0 (1/m)");
-  }
-  if (!(wall_cost >= 0.0) || !std::isfinite(wall_cost)) return fail("wall_cost must be >= 0");
-  return true;
+  return ok;
 }
 
 CostGrid::CostGrid(const GridGeometry& geometry, const std::vector<CellClass>& classes,

@@ -4,27 +4,15 @@
 #include <cmath>
 #include <limits>
 
+#include "evidential_slam/core/parameters.h"
+
 namespace evidential_slam {
 namespace exploration {
 
 bool PursuitConfig::isValid(std::string* why) const {
-  auto fail = [why](const char* what) {
-    if (why != nullptr) *why = what;
-    return false;
-  };
-  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(lookahead)) return fail("lookahead must be > 0 (m)");
-  if (!positive(max_linear_speed)) return fail("max_linear_speed must be > 0 (m/s)");
-  if (!positive(max_angular_speed)) return fail("max_angular_speed must be > 0 (rad/s)");
-  if (!positive(rotate_in_place_angle) || rotate_in_place_angle > M_PI) {
-    return fail("rotate_in_place_angle must be in (0, pi] (rad)");
-  }
-  if (!positive(rotate_gain)) return fail("rotate_gain must be > 0 (1/s)");
-  if (!positive(goal_tolerance)) return fail("goal_tolerance must be > 0 (m)");
-  if (!(slowdown_distance >= 0.0) || !std::isfinite(slowdown_distance)) {
-    return fail("slowdown_distance must be >= 0 (m)");
-  }
-  return true;
+  bool ok = true;
+  ES_EXPLORER_PURSUIT_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  return ok;
 }
 
 Eigen::Vector2d lookaheadPoint(const std::vector<Eigen::Vector2d>& path,

@@ -10,18 +10,16 @@
 #include <Eigen/Core>
 
 #include "evidential_slam/core/layers.h"
+#include "evidential_slam/core/parameters.def"
 
 namespace evidential_slam {
 namespace exploration {
 
+// Occupied is checked first, then unknown (NS at or above unknown_ns), then free. A single free
+// pass leaves NS = r = 0.2; the Θ gap the inverse model leaves in front of a hit holds 0.5-0.9
+// until the wall has been seen a few times, which must not read as a frontier.
 struct CellClassConfig {
-  double occupied_betp = 0.65;  // BetP(o) at or above: an obstacle
-  double free_betp = 0.35;      // BetP(o) at or below, with NS at or below free_ns: free
-  double free_ns = 0.5;
-  // τ: NS at or above: not yet observed (checked after occupied, before free). A single free
-  // pass leaves NS = r = 0.2; the Θ gap the inverse model leaves in front of a hit holds 0.5-0.9
-  // until the wall has been seen a few times, which must not read as a frontier.
-  double unknown_ns = 0.9;
+  ES_EXPLORER_CELL_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
   bool isValid(std::string* why) const;
 };

@@ -34,6 +34,15 @@ std::vector<uint8_t> reachableFreeCells(const OccupancyImage& truth, const Eigen
 double distanceToObstacle(const OccupancyImage& truth, const Eigen::Vector2d& p,
                           double max_distance);
 
+// Width (m) of the band in front of every wall that the inverse model never marks free: the Θ gap
+// free_gap·σ + Δ/2 it leaves before a hit (docs/algorithm.md §4; σ the hit sigma in use, Δ the
+// map's resolution), plus Δ/2 because a point counts by the map cell it falls in.
+double thetaGapBand(double free_gap, double hit_sigma, double resolution);
+
+// The `cells` (a 0/1 mask) whose centre lies further than `band` from every obstacle.
+std::vector<uint8_t> cellsBeyondBand(const OccupancyImage& truth, const std::vector<uint8_t>& cells,
+                                     double band);
+
 // Share of the `reachable` cells (reachableFreeCells) whose centre, taken into the map's frame
 // (`map_in_truth`: the map frame's pose in the image's frame), falls on a map cell with
 // NS < max_ns and BetP(o) < 0.5. 0 when nothing is reachable.

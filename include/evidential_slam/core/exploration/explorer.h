@@ -17,6 +17,7 @@
 #include "evidential_slam/core/exploration/planner.h"
 #include "evidential_slam/core/exploration/pure_pursuit.h"
 #include "evidential_slam/core/layers.h"
+#include "evidential_slam/core/parameters.def"
 #include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
@@ -27,15 +28,7 @@ struct ExplorerConfig {
   FrontierConfig frontiers;
   PlannerConfig planner;
   PursuitConfig pursuit;
-  // Hz: goals re-chosen and the path replanned (explore_lite's name and default).
-  double planner_frequency = 1.0;
-  // s without progress on a goal before it is blacklisted (explore_lite's name and default).
-  double progress_timeout = 30.0;
-  // m the path cost to the goal must fall, or the goal move, to count as progress
-  double progress_distance = 0.2;
-  double blacklist_radius = 0.5;   // m; goals this close to a blacklisted one are skipped
-  // The current goal is kept unless another one's utility exceeds its own by this share of it.
-  double goal_switch_margin = 0.2;
+  ES_EXPLORER_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
   bool isValid(std::string* why) const;
 };

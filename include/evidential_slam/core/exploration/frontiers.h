@@ -16,6 +16,7 @@
 
 #include "evidential_slam/core/exploration/cell_classes.h"
 #include "evidential_slam/core/exploration/planner.h"
+#include "evidential_slam/core/parameters.def"
 
 namespace evidential_slam {
 namespace exploration {
@@ -25,36 +26,18 @@ enum class Strategy { kNonSpecificity, kFrontier };
 bool parseStrategy(const std::string& name, Strategy* strategy);
 const char* strategyName(Strategy strategy);
 
+// Frontier strategies' settings. The "frontier" strategy's cost of a frontier of `size` cells
+// whose nearest cell lies `min_distance` m (straight line) from the robot is explore_lite's:
+// potential_scale · min_distance · resolution − gain_scale · size · resolution (its distance term
+// is multiplied by the resolution too). Its orientation_scale "does currently nothing"
+// (explore_lite's documentation) and is not offered. Revisit goals (off by default) are weighed
+// in both strategies as revisit_weight · gain · exp(-distance_decay · path_cost), their gain the
+// bit·m² of external conflict in the cluster.
 struct FrontierConfig {
-  Strategy strategy = Strategy::kNonSpecificity;
-  // Clusters shorter than this (cells × resolution, m) are ignored (explore_lite's name and
-  // default).
-  double min_frontier_size = 0.5;
+  ES_EXPLORER_GOAL_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
-  // --- "ns" ---
-  // m; the laser's range for the gain. It also caps the ray casting's cost (gain_rays × range /
-  // resolution cells per frontier): give min(laser's usable range, this).
-  double gain_range = 10.0;
-  int gain_rays = 360;         // rays cast over the full circle from each frontier's goal
-  double distance_decay = 0.2;  // 1/m: a goal 5 m further must promise e times the gain
-
-  // --- "frontier": explore_lite's cost of a frontier of `size` cells whose nearest cell lies
-  // `min_distance` m (straight line) from the robot, in explore_lite's form:
-  // potential_scale · min_distance · resolution − gain_scale · size · resolution (its distance
-  // term is multiplied by the resolution too). Its orientation_scale "does currently nothing"
-  // (explore_lite's documentation) and is not offered.
-  double potential_scale = 1e-3;
-  double gain_scale = 1.0;
-
-  // --- revisit goals (off by default) ---
-  bool revisit_conflict = false;
-  double revisit_ec_threshold = 1.0;  // bits of external conflict that make a cell suspect
-  int revisit_min_cells = 5;          // smallest cluster (8-connected) worth a visit
-  // A revisit goal's utility, in both strategies, is revisit_weight · gain · exp(-distance_decay ·
-  // path_cost), its gain the bit·m² of external conflict in its cluster.
-  double revisit_weight = 1.0;
-  double revisit_standoff = 1.0;  // m; the goal is a reachable cell about this far from it
-
+  // The strategy `strategy` names (isValid refuses other names).
+  Strategy kind() const;
   bool isValid(std::string* why) const;
 };
 

@@ -10,21 +10,15 @@
 #include <Eigen/Core>
 
 #include "evidential_slam/core/exploration/cell_classes.h"
+#include "evidential_slam/core/parameters.def"
 
 namespace evidential_slam {
 namespace exploration {
 
+// The wall cost of a cell at clearance c (robot_radius <= c < inflation_radius) multiplies a
+// step's length by 1 + wall_cost · exp(-cost_scaling_factor · (c - robot_radius)); 1 beyond.
 struct PlannerConfig {
-  double robot_radius = 0.25;  // m; cells whose clearance to an obstacle is less are impassable
-  double inflation_radius = 0.6;  // m of clearance up to which the wall cost applies
-  // 1/m; the wall cost decays as exp(-factor * (clearance - robot_radius)) (costmap_2d's name).
-  double cost_scaling_factor = 10.0;
-  // A step at clearance robot_radius costs (1 + wall_cost) times its length; in open space 1.
-  double wall_cost = 4.0;
-  bool unknown_passable = false;  // cells of class kUnknown may be crossed
-  // Replace runs of the A* path by straight segments that cross no impassable cell and cost no
-  // more than the run.
-  bool smooth_path = true;
+  ES_EXPLORER_PLANNER_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
   bool isValid(std::string* why) const;
 };

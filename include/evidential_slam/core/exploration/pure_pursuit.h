@@ -8,21 +8,16 @@
 
 #include <Eigen/Core>
 
+#include "evidential_slam/core/parameters.def"
 #include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
 namespace exploration {
 
+// Within slowdown_distance of the goal the speed falls linearly, to a quarter of the maximum at
+// goal_tolerance.
 struct PursuitConfig {
-  double lookahead = 0.5;              // m along the path from the robot's projection on it
-  double max_linear_speed = 0.4;       // m/s
-  double max_angular_speed = 0.8;      // rad/s
-  double rotate_in_place_angle = 0.6;  // rad; a target further off the heading: turn in place
-  double rotate_gain = 2.0;            // 1/s: turn rate per rad of heading error, in place
-  double goal_tolerance = 0.15;        // m; the goal is reached within this
-  // m; within this of the goal the speed falls linearly, to a quarter of the maximum at the
-  // goal tolerance.
-  double slowdown_distance = 0.6;
+  ES_EXPLORER_PURSUIT_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
   bool isValid(std::string* why) const;
 };

@@ -1,0 +1,42 @@
+// Every ROS parameter of the explorer node, read in one place by the rows of the parameter table
+// (core/parameters.def): the core Explorer's and the node's own.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <xmlrpcpp/XmlRpcValue.h>
+
+#include "evidential_slam/core/exploration/parameters.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+
+struct ExplorerNodeParams {
+  ES_EXPLORER_NODE_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  exploration::ExplorerConfig explorer;
+
+  bool isValid(std::string* why) const;
+};
+
+// Visits every parameter of the explorer node, the core's first: visit(spec, field).
+template <typename Params, typename Visitor>
+void forEachExplorerNodeParameter(Params& p, Visitor&& visit) {
+  exploration::forEachExplorerParameter(p.explorer, visit);
+  ES_EXPLORER_NODE_PARAMETERS(ES_VISIT_PARAMETER, p)
+}
+
+// Looks a private parameter up by name: false when it is not set.
+using ParameterLookup = std::function<bool(const std::string& name, XmlRpc::XmlRpcValue* value)>;
+
+// Reads every parameter through `lookup`; unset ones keep their defaults. False with a one-line
+// `why` for a value of the wrong type or out of range (range only: call isValid after).
+bool readExplorerParams(const ParameterLookup& lookup, ExplorerNodeParams* params,
+                        std::string* why);
+
+// The names among `names` (private parameter names) that are no parameter of the explorer.
+std::vector<std::string> unknownExplorerParams(const std::vector<std::string>& names);
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam
