@@ -32,6 +32,7 @@ GROUPS = [
     ("CONFLICT_ALARM", "conflict_alarm", "Conflict alarm"),
     ("SESSION", "session", "Scan order and saved maps"),
     ("NODE", "node", "ROS node only"),
+    ("MAP_FUSION", "map_fusion", "Map fusion node (map_fusion)"),
 ]
 FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
 
