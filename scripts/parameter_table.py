@@ -33,6 +33,7 @@ GROUPS = [
     ("CONFLICT_ALARM", "conflict_alarm", "Conflict alarm"),
     ("SESSION", "session", "Scan order and saved maps"),
     ("NODE", "node", "ROS node only"),
+    ("MAP_FUSION", "map_fusion", "Map fusion node (map_fusion)"),
 ]
 # The explorer's lists (core/exploration, the explorer node), documented in docs/exploration.md.
 EXPLORER_GROUPS = [

@@ -189,6 +189,58 @@ void toOccupancyGrid(const LayerRaster& raster, Layer layer, const OccupancyRend
   }
 }
 
+bool layerRasterFromMsg(const EvidentialGrid& msg, LayerRaster* raster, Pose2* frame,
+                        std::string* why) {
+  auto fail = [&](const std::string& message) {
+    if (why != nullptr) *why = message;
+    return false;
+  };
+  if (!(msg.info.resolution > 0.0f) || !std::isfinite(msg.info.resolution)) {
+    return fail("EvidentialGrid: resolution must be positive");
+  }
+  if (msg.layers.size() != msg.data.size()) {
+    return fail("EvidentialGrid: " + std::to_string(msg.layers.size()) + " layer names for " +
+                std::to_string(msg.data.size()) + " layers");
+  }
+  const size_t cells = static_cast<size_t>(msg.info.width) * msg.info.height;
+  LayerRaster r;
+  r.resolution = msg.info.resolution;
+  r.width = static_cast<int>(msg.info.width);
+  r.height = static_cast<int>(msg.info.height);
+  const Pose2 origin = pose2FromPoseMsg(msg.info.origin);
+  if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.theta)) {
+    return fail("EvidentialGrid: origin is not finite");
+  }
+  Pose2 raster_frame;
+  if (origin.theta == 0.0) {
+    r.origin_x = origin.x;
+    r.origin_y = origin.y;
+  } else {
+    raster_frame = origin;
+  }
+  for (size_t i = 0; i < msg.layers.size(); ++i) {
+    for (int l = 0; l < kLayerCount; ++l) {
+      if (msg.layers[i] == layerNames()[l]) r.values[l] = msg.data[i].data;
+    }
+  }
+  for (const Layer l :
+       {Layer::kOccupied, Layer::kFree, Layer::kUnknown, Layer::kExternalConflict}) {
+    if (r.layer(l).size() != cells) {
+      return fail("EvidentialGrid: layer " + layerName(l) + " has " +
+                  std::to_string(r.layer(l).size()) + " values for " + std::to_string(cells) +
+                  " cells");
+    }
+  }
+  if (msg.observed.size() != cells) {
+    return fail("EvidentialGrid: observed has " + std::to_string(msg.observed.size()) +
+                " values for " + std::to_string(cells) + " cells");
+  }
+  r.observed = msg.observed;
+  *raster = std::move(r);
+  if (frame != nullptr) *frame = raster_frame;
+  return true;
+}
+
 void toTrinaryOccupancyGrid(const LayerRaster& raster, double occupied_thresh, double free_thresh,
                             const std_msgs::Header& header, nav_msgs::OccupancyGrid* out) {
   out->header = header;

@@ -198,6 +198,52 @@ TEST(Conversions, EvidentialGridMessageHasEveryLayer) {
   EXPECT_EQ(m.observed, (std::vector<uint8_t>{1, 0}));
 }
 
+// EvidentialGrid back to its raster: the same layers, origin and observed cells; a turned origin
+// becomes the raster's frame; messages that are no grid are refused with a reason.
+TEST(Conversions, EvidentialGridMessageBackToItsRaster) {
+  const LayerRaster r = twoCellRaster();
+  std_msgs::Header h;
+  EvidentialGrid m;
+  toEvidentialGridMsg(r, h, &m);
+  LayerRaster back;
+  Pose2 frame(1, 1, 1);
+  std::string why;
+  ASSERT_TRUE(layerRasterFromMsg(m, &back, &frame, &why)) << why;
+  EXPECT_NEAR(back.resolution, 0.1, 1e-7);
+  EXPECT_DOUBLE_EQ(back.origin_x, -1.0);
+  EXPECT_DOUBLE_EQ(back.origin_y, 2.0);
+  EXPECT_EQ(back.width, 2);
+  EXPECT_EQ(back.height, 1);
+  for (int l = 0; l < kLayerCount; ++l) EXPECT_EQ(back.values[l], r.values[l]) << l;
+  EXPECT_EQ(back.observed, r.observed);
+  EXPECT_EQ(frame.x, 0.0);
+  EXPECT_EQ(frame.theta, 0.0);
+
+  EvidentialGrid turned = m;
+  turned.info.origin = toPoseMsg(Pose2(3.0, 4.0, 0.5));
+  ASSERT_TRUE(layerRasterFromMsg(turned, &back, &frame, &why)) << why;
+  EXPECT_DOUBLE_EQ(back.origin_x, 0.0);
+  EXPECT_NEAR(frame.x, 3.0, 1e-12);
+  EXPECT_NEAR(frame.theta, 0.5, 1e-12);
+
+  EvidentialGrid bad = m;
+  bad.data[1].data.pop_back();  // free
+  EXPECT_FALSE(layerRasterFromMsg(bad, &back, &frame, &why));
+  EXPECT_NE(why.find("layer free has 1 values for 2 cells"), std::string::npos) << why;
+  bad = m;
+  bad.layers.pop_back();
+  EXPECT_FALSE(layerRasterFromMsg(bad, &back, &frame, &why));
+  EXPECT_NE(why.find("layer names"), std::string::npos) << why;
+  bad = m;
+  bad.info.resolution = 0.0f;
+  EXPECT_FALSE(layerRasterFromMsg(bad, &back, &frame, &why));
+  EXPECT_NE(why.find("resolution"), std::string::npos) << why;
+  bad = m;
+  bad.observed.clear();
+  EXPECT_FALSE(layerRasterFromMsg(bad, &back, &frame, &why));
+  EXPECT_NE(why.find("observed"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace ros_adapter
 }  // namespace evidential_slam

@@ -65,5 +65,13 @@ void toOccupancyGrid(const LayerRaster& raster, Layer layer, const OccupancyRend
 void toTrinaryOccupancyGrid(const LayerRaster& raster, double occupied_thresh, double free_thresh,
                             const std_msgs::Header& header, nav_msgs::OccupancyGrid* out);
 
+// EvidentialGrid -> the layer raster it was made from (the layers the message names, in any
+// order). `frame` gets the raster's frame in the message's frame: the origin's pose when it is
+// turned (the raster's origin is then 0, 0), else the identity (the origin is the raster's). False
+// (and a one-line `why`) for a message that is no evidential grid: a non-positive resolution, a
+// layer of the wrong size, a missing occupied, free, unknown or external_conflict layer.
+bool layerRasterFromMsg(const EvidentialGrid& msg, LayerRaster* raster, Pose2* frame,
+                        std::string* why);
+
 }  // namespace ros_adapter
 }  // namespace evidential_slam

@@ -1,0 +1,96 @@
+// The map_fusion nodelet: finds robots by their EvidentialGrid topics (as m-explore's map_merge
+// finds OccupancyGrid ones), places each robot's map by its initial pose in world_frame (given as
+// map_merge's <robot>/map_merge/init_pose_* parameters, or estimated by fusion::alignMaps), fuses
+// them by one combination rule (fusion::fuseMaps) on its own thread, and publishes the fused map:
+// ~grid (EvidentialGrid), ~layers/<name> and a trinary `map` with its `map_metadata`.
+#pragma once
+
+#include <array>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+
+#include "evidential_slam/EvidentialGrid.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/fusion/combination.h"
+#include "evidential_slam/core/measures.h"
+#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/pose2.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+
+struct MapFusionParams {
+  SessionConfig session;  // occupied_thresh and free_thresh of the trinary `map`
+  ES_MAP_FUSION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+
+  bool isValid(std::string* why) const;
+};
+
+template <typename Params, typename Visitor>
+void forEachMapFusionParameter(Params& p, Visitor&& visit) {
+  ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, p.session)
+  ES_MAP_FUSION_PARAMETERS(ES_VISIT_PARAMETER, p)
+}
+
+// Reads the node's parameters from its private handle; missing ones keep their defaults. False
+// with a one-line `why` for a value of the wrong type or out of range.
+bool readMapFusionParams(const ros::NodeHandle& private_nh, MapFusionParams* params,
+                         std::string* why);
+
+// <robot>/map_merge/init_pose_x, _y, _z, _yaw (map_merge's names) as the robot's map frame in
+// world_frame (z is read and not used: the maps are planar). False when one is missing or not a
+// number.
+bool readInitPose(const std::string& robot, Pose2* pose);
+
+class MapFusionNodelet : public nodelet::Nodelet {
+ public:
+  MapFusionNodelet() = default;
+  ~MapFusionNodelet() override;
+
+ private:
+  struct Robot {
+    std::string name;  // its namespace, e.g. /robot1
+    ros::Subscriber sub;
+    bool has_pose = false;   // known or estimated
+    Pose2 pose;              // its map frame in world_frame
+    ros::WallTime estimated_at;
+    uint64_t estimated_version = 0;
+    std::shared_ptr<const EvidentialGridMap> map;  // latest, null before the first message
+    Pose2 grid_frame;  // the grid's frame in the robot's map frame (layer origin off the grid)
+    uint64_t version = 0;
+    double stamp = 0.0;
+  };
+
+  void onInit() override;
+  void discover();
+  void onGrid(const std::string& robot, const EvidentialGrid::ConstPtr& msg);
+  void run();
+  bool fuseOnce();
+  void publish(const EvidentialGridMap& fused, double stamp);
+
+  MapFusionParams params_;
+  fusion::Rule rule_ = fusion::Rule::kCautious;
+  ros::NodeHandle nh_, private_nh_;
+  ros::Publisher map_pub_, metadata_pub_, grid_pub_;
+  std::array<ros::Publisher, kLayerCount> layer_pubs_;
+  ros::WallTimer discovery_timer_, merging_timer_;
+
+  std::mutex mutex_;  // guards robots_, wake_requested_, stop_
+  std::condition_variable wake_;
+  std::map<std::string, Robot> robots_;
+  bool wake_requested_ = false;
+  bool stop_ = false;
+  uint64_t changes_ = 0;        // counts new maps and poses (guarded by mutex_)
+  uint64_t fused_changes_ = 0;  // changes_ at the last fusion (fusion thread only)
+  std::thread thread_;
+};
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam

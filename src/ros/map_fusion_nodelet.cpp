@@ -1,0 +1,360 @@
+#include "evidential_slam/ros/map_fusion_nodelet.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <nav_msgs/MapMetaData.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/master.h>
+#include <xmlrpcpp/XmlRpcValue.h>
+
+#include "evidential_slam/core/fusion/alignment.h"
+#include "evidential_slam/core/fusion/layer_map.h"
+#include "evidential_slam/core/fusion/map_fusion.h"
+#include "evidential_slam/core/layers.h"
+#include "evidential_slam/ros/conversions.h"
+
+namespace evidential_slam {
+namespace ros_adapter {
+namespace {
+
+// A parameter server value as the text the table's parsers read; false for arrays and structs.
+bool asText(XmlRpc::XmlRpcValue& value, std::string* text) {
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeInt:
+      *text = std::to_string(static_cast<int>(value));
+      return true;
+    case XmlRpc::XmlRpcValue::TypeDouble: {
+      char buffer[40];
+      std::snprintf(buffer, sizeof(buffer), "%.17g", static_cast<double>(value));
+      *text = buffer;
+      return true;
+    }
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      *text = static_cast<bool>(value) ? "true" : "false";
+      return true;
+    case XmlRpc::XmlRpcValue::TypeString:
+      *text = static_cast<std::string>(value);
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool readNumber(const std::string& name, double* value) {
+  XmlRpc::XmlRpcValue v;
+  if (!ros::param::get(name, v)) return false;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    *value = static_cast<double>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    *value = static_cast<int>(v);
+  } else {
+    return false;
+  }
+  return std::isfinite(*value);
+}
+
+}  // namespace
+
+bool MapFusionParams::isValid(std::string* why) const {
+  if (!session.isValid(why)) return false;
+  bool ok = true;
+  ES_MAP_FUSION_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  if (!ok) return false;
+  fusion::Rule r;
+  if (!fusion::parseRule(rule, &r)) {
+    if (why != nullptr) {
+      *why = "fusion_rule '" + rule + "' is none of cautious, conjunctive, dempster, yager, "
+             "disjunctive";
+    }
+    return false;
+  }
+  if (robot_map_topic.empty() || world_frame.empty()) {
+    if (why != nullptr) *why = "robot_map_topic and world_frame must not be empty";
+    return false;
+  }
+  return true;
+}
+
+bool readMapFusionParams(const ros::NodeHandle& nh, MapFusionParams* params, std::string* why) {
+  bool ok = true;
+  forEachMapFusionParameter(*params, [&](const ParameterSpec& spec, auto& field) {
+    XmlRpc::XmlRpcValue value;
+    if (!ok || !nh.getParam(spec.name, value)) return;
+    std::string text;
+    if (!asText(value, &text)) {
+      ok = false;
+      if (why != nullptr) *why = std::string(spec.name) + " must be a single value";
+      return;
+    }
+    ok = parseParameter(spec, text, &field, why);
+  });
+  return ok;
+}
+
+bool readInitPose(const std::string& robot, Pose2* pose) {
+  const std::string ns = ros::names::append(robot, "map_merge");
+  double x = 0, y = 0, z = 0, yaw = 0;
+  if (!readNumber(ros::names::append(ns, "init_pose_x"), &x) ||
+      !readNumber(ros::names::append(ns, "init_pose_y"), &y) ||
+      !readNumber(ros::names::append(ns, "init_pose_z"), &z) ||
+      !readNumber(ros::names::append(ns, "init_pose_yaw"), &yaw)) {
+    return false;
+  }
+  *pose = Pose2(x, y, yaw);
+  return true;
+}
+
+MapFusionNodelet::~MapFusionNodelet() {
+  // No timer or subscriber callback may run into members being destroyed.
+  discovery_timer_.stop();
+  merging_timer_.stop();
+  for (auto& [name, robot] : robots_) robot.sub.shutdown();  // outside the lock onGrid takes
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void MapFusionNodelet::onInit() {
+  nh_ = getNodeHandle();
+  private_nh_ = getPrivateNodeHandle();
+  std::string why;
+  if (!readMapFusionParams(private_nh_, &params_, &why) || !params_.isValid(&why)) {
+    NODELET_FATAL("map_fusion: invalid parameters: %s; the fusion does not start", why.c_str());
+    return;
+  }
+  fusion::parseRule(params_.rule, &rule_);
+  map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
+  metadata_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
+  grid_pub_ = private_nh_.advertise<EvidentialGrid>("grid", 1, true);
+  for (int l = 0; l < kLayerCount; ++l) {
+    layer_pubs_[l] =
+        private_nh_.advertise<nav_msgs::OccupancyGrid>("layers/" + layerNames()[l], 1, true);
+  }
+  NODELET_INFO("map_fusion: %s rule, discount %g, robots' maps on */%s%s%s, %s poses",
+               params_.rule.c_str(), params_.discount, params_.robot_map_topic.c_str(),
+               params_.robot_namespace.empty() ? "" : " containing ",
+               params_.robot_namespace.c_str(),
+               params_.known_init_poses ? "known initial" : "estimated");
+  thread_ = std::thread([this] { run(); });
+  discover();
+  discovery_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / params_.discovery_rate),
+                                         [this](const ros::WallTimerEvent&) { discover(); });
+  merging_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / params_.merging_rate),
+                                       [this](const ros::WallTimerEvent&) {
+                                         {
+                                           std::lock_guard<std::mutex> lock(mutex_);
+                                           wake_requested_ = true;
+                                         }
+                                         wake_.notify_one();
+                                       });
+}
+
+void MapFusionNodelet::discover() {
+  ros::master::V_TopicInfo topics;
+  if (!ros::master::getTopics(topics)) return;
+  const std::string own_grid = grid_pub_.getTopic();
+  for (const ros::master::TopicInfo& t : topics) {
+    if (t.datatype != "evidential_slam/EvidentialGrid" || t.name == own_grid) continue;
+    if (t.name.find(params_.robot_namespace) == std::string::npos) continue;
+    // <robot>/<robot_map_topic>: the robot is what precedes the suffix.
+    const std::string suffix = "/" + params_.robot_map_topic;
+    if (t.name.size() <= suffix.size() ||
+        t.name.compare(t.name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      continue;
+    }
+    const std::string robot = t.name.substr(0, t.name.size() - suffix.size());
+    Pose2 pose;
+    const bool has_pose = params_.known_init_poses && readInitPose(robot, &pose);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (robots_.count(robot) != 0) continue;
+    }
+    if (params_.known_init_poses && !has_pose) {
+      NODELET_WARN_THROTTLE(10.0,
+                            "map_fusion: no initial pose for robot %s: set %s/map_merge/"
+                            "init_pose_x, _y, _z and _yaw (or known_init_poses: false)",
+                            robot.c_str(), robot.c_str());
+      continue;
+    }
+    Robot r;
+    r.name = robot;
+    r.has_pose = has_pose;
+    r.pose = pose;
+    r.sub = nh_.subscribe<EvidentialGrid>(
+        t.name, 1, [this, robot](const EvidentialGrid::ConstPtr& msg) { onGrid(robot, msg); });
+    NODELET_INFO("map_fusion: robot %s (map %s)%s", robot.c_str(), t.name.c_str(),
+                 has_pose ? "" : ", pose to be estimated");
+    std::lock_guard<std::mutex> lock(mutex_);
+    robots_.emplace(robot, std::move(r));
+  }
+}
+
+void MapFusionNodelet::onGrid(const std::string& robot, const EvidentialGrid::ConstPtr& msg) {
+  LayerRaster raster;
+  Pose2 frame, offset;
+  std::string why;
+  auto map = std::make_shared<EvidentialGridMap>();
+  if (!layerRasterFromMsg(*msg, &raster, &frame, &why) ||
+      !fusion::mapFromLayers(raster, map.get(), &offset, &why)) {
+    NODELET_WARN_THROTTLE(5.0, "map_fusion: robot %s: map ignored: %s", robot.c_str(),
+                          why.c_str());
+    return;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = robots_.find(robot);
+  if (it == robots_.end()) return;
+  if (it->second.map && std::abs(map->resolution() - it->second.map->resolution()) > 1e-9) {
+    it->second.has_pose = it->second.has_pose && params_.known_init_poses;
+  }
+  it->second.map = std::move(map);
+  it->second.grid_frame = frame.compose(offset);
+  it->second.stamp = msg->header.stamp.toSec();
+  ++it->second.version;
+  ++changes_;
+}
+
+void MapFusionNodelet::run() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [this] { return stop_ || wake_requested_; });
+    if (stop_) return;
+    wake_requested_ = false;
+    lock.unlock();
+    try {
+      fuseOnce();
+    } catch (const std::exception& e) {
+      NODELET_ERROR_THROTTLE(5.0, "map_fusion: %s", e.what());
+    }
+    lock.lock();
+  }
+}
+
+bool MapFusionNodelet::fuseOnce() {
+  // A consistent copy of the robots (maps are shared, immutable).
+  std::vector<Robot> robots;
+  uint64_t changes = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    changes = changes_;
+    if (changes == fused_changes_) return false;
+    for (const auto& [name, r] : robots_) {
+      if (!r.map) continue;
+      Robot copy;
+      copy.name = r.name;
+      copy.has_pose = r.has_pose;
+      copy.pose = r.pose;
+      copy.map = r.map;
+      copy.grid_frame = r.grid_frame;
+      copy.version = r.version;
+      copy.stamp = r.stamp;
+      copy.estimated_at = r.estimated_at;
+      copy.estimated_version = r.estimated_version;
+      robots.push_back(std::move(copy));
+    }
+  }
+  if (robots.empty()) return false;
+
+  if (!params_.known_init_poses) {
+    // The first robot (by name) is the reference: its map frame is world_frame.
+    robots[0].has_pose = true;
+    robots[0].pose = Pose2();
+    const ros::WallTime now = ros::WallTime::now();
+    for (size_t i = 1; i < robots.size(); ++i) {
+      Robot& r = robots[i];
+      const bool changed = r.version != r.estimated_version;
+      const bool due = !r.has_pose || (changed && (now - r.estimated_at).toSec() >=
+                                                      1.0 / params_.estimation_rate);
+      if (!due) continue;
+      fusion::AlignmentResult result;
+      std::string why;
+      r.estimated_at = now;
+      r.estimated_version = r.version;
+      if (fusion::alignMaps(*robots[0].map, *r.map, fusion::AlignmentConfig(), &result, &why)) {
+        // Grid poses -> map frames: reference grid frame ∘ aligned ∘ this grid frame⁻¹.
+        r.pose = robots[0].grid_frame.compose(result.pose).compose(r.grid_frame.inverse());
+        r.has_pose = true;
+        NODELET_INFO("map_fusion: robot %s at (%.3f, %.3f, %.4f) in %s's map (conflict %.3f)",
+                     r.name.c_str(), r.pose.x, r.pose.y, r.pose.theta, robots[0].name.c_str(),
+                     result.conflict);
+      } else {
+        NODELET_WARN_THROTTLE(10.0, "map_fusion: robot %s not aligned yet: %s", r.name.c_str(),
+                              why.c_str());
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const Robot& r : robots) {
+      auto it = robots_.find(r.name);
+      if (it == robots_.end()) continue;
+      it->second.has_pose = r.has_pose;
+      it->second.pose = r.pose;
+      it->second.estimated_at = r.estimated_at;
+      it->second.estimated_version = r.estimated_version;
+    }
+  }
+
+  std::vector<fusion::FusionSource> sources;
+  double stamp = 0.0;
+  for (const Robot& r : robots) {
+    if (!r.has_pose) continue;
+    if (!sources.empty() &&
+        std::abs(r.map->resolution() - sources.front().map->resolution()) > 1e-9) {
+      NODELET_WARN_THROTTLE(10.0, "map_fusion: robot %s: %g m cells, not %g m: left out",
+                            r.name.c_str(), r.map->resolution(), sources.front().map->resolution());
+      continue;
+    }
+    fusion::FusionSource s;
+    s.map = r.map.get();
+    s.pose = r.pose.compose(r.grid_frame);
+    s.discount = params_.discount;
+    sources.push_back(s);
+    stamp = std::max(stamp, r.stamp);
+  }
+  fused_changes_ = changes;
+  if (sources.empty()) return false;
+  fusion::FusionConfig config;
+  config.rule = rule_;
+  EvidentialGridMap fused;
+  fusion::FusionReport report;
+  std::string why;
+  if (!fusion::fuseMaps(sources, config, &fused, &report, &why)) {
+    NODELET_WARN_THROTTLE(10.0, "map_fusion: %s", why.c_str());
+    return false;
+  }
+  NODELET_DEBUG("map_fusion: %zu maps, %zu cells, %zu overlapping, mean conflict %.4f",
+                sources.size(), report.fused_cells, report.overlap_cells, report.mean_conflict);
+  publish(fused, stamp);
+  return true;
+}
+
+void MapFusionNodelet::publish(const EvidentialGridMap& fused, double stamp) {
+  const LayerRaster raster = extractLayers(fused);
+  std_msgs::Header header;
+  header.stamp.fromSec(stamp);
+  header.frame_id = params_.world_frame;
+  nav_msgs::OccupancyGrid map;
+  toTrinaryOccupancyGrid(raster, params_.session.occupied_thresh, params_.session.free_thresh,
+                         header, &map);
+  map_pub_.publish(map);
+  metadata_pub_.publish(map.info);
+  EvidentialGrid grid;
+  toEvidentialGridMsg(raster, header, &grid);
+  grid_pub_.publish(grid);
+  for (int l = 0; l < kLayerCount; ++l) {
+    nav_msgs::OccupancyGrid layer;
+    toOccupancyGrid(raster, static_cast<Layer>(l), layerRendering(static_cast<Layer>(l), 2.0),
+                    header, &layer);
+    layer_pubs_[l].publish(layer);
+  }
+}
+
+}  // namespace ros_adapter
+}  // namespace evidential_slam
+
+PLUGINLIB_EXPORT_CLASS(evidential_slam::ros_adapter::MapFusionNodelet, nodelet::Nodelet)
