@@ -24,7 +24,8 @@ BEGIN = "<!-- BEGIN GENERATED: %s -->"
 END = "<!-- END GENERATED: %s -->"
 
 # Lists in the order the docs show them, with their heading.
-GROUPS = [
+# The SLAM node's lists in the order dynamic_reconfigure's .cfg groups them, with their heading.
+SLAM_GROUPS = [
     ("FILTER", "filter", "Particle filter"),
     ("SENSOR_MODEL", "sensor_model", "Sensor models"),
     ("MOTION_MODEL", "motion_model", "Motion model"),
@@ -33,8 +34,14 @@ GROUPS = [
     ("CONFLICT_ALARM", "conflict_alarm", "Conflict alarm"),
     ("SESSION", "session", "Scan order and saved maps"),
     ("NODE", "node", "ROS node only"),
-    ("MAP_FUSION", "map_fusion", "Map fusion node (map_fusion)"),
 ]
+# What a user sets on a robot: the README's table.
+TUNING_KEYS = ("MOTION_MODEL", "SCAN_MATCHER", "LONG_STEP", "CONFLICT_ALARM")
+GROUPS = [g for g in SLAM_GROUPS if g[0] not in TUNING_KEYS]
+# The filter's finer settings, documented in docs/parameters.md.
+TUNING_GROUPS = [g for g in SLAM_GROUPS if g[0] in TUNING_KEYS]
+# The map fusion node, documented in docs/fusion.md.
+FUSION_GROUPS = [("MAP_FUSION", "map_fusion", "Map fusion node (map_fusion)")]
 # The explorer's lists (core/exploration, the explorer node), documented in docs/exploration.md.
 EXPLORER_GROUPS = [
     ("EXPLORER_CELL", "cells", "Cell classes"),
@@ -44,7 +51,8 @@ EXPLORER_GROUPS = [
     ("EXPLORER_PURSUIT", "pursuit", "Pure pursuit"),
     ("EXPLORER_NODE", "explorer_node", "Explorer node only"),
 ]
-BLOCKS = {"parameters": GROUPS, "explorer-parameters": EXPLORER_GROUPS}
+BLOCKS = {"parameters": GROUPS, "tuning-parameters": TUNING_GROUPS,
+          "fusion-parameters": FUSION_GROUPS, "explorer-parameters": EXPLORER_GROUPS}
 FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
 
 
@@ -146,6 +154,11 @@ def main(argv):
         else:
             files.append(a)
     failures = []
+    # Every list of the table is documented by some block.
+    listed = {key for groups in BLOCKS.values() for key, _, _ in groups}
+    for group in sorted({r.group for r in rows()} - listed):
+        failures.append("%s: list ES_%s_PARAMETERS is in no generated block (BLOCKS)"
+                        % (os.path.relpath(DEF_FILE), group))
     for path in files:
         with open(path, encoding="utf-8") as f:
             text = f.read()
