@@ -384,6 +384,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   // 4. Weight and map update (unless map updates are off), once per group.
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
   std::vector<ScanConflict> conflict_stats(leaders.size());
+  std::vector<std::vector<AnomalyCell>> anomaly(leaders.size());
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     const Pose2 sensor_pose = proposed[leaders[g]].compose(scan.sensor_pose);
@@ -394,7 +395,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     }
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
     const BeamModel::ScanEvidence evidence = beam_model->weighAndIntegrate(
-        sensor_pose, scan, &p.map, &ws.accumulator, config_.sensor.weight_beam_stride);
+        sensor_pose, scan, &p.map, &ws.accumulator, config_.sensor.weight_beam_stride,
+        &anomaly[g]);
     log_pl[g] = evidence.log_plausibility;
     conflict_added[g] = evidence.conflict_added_bits;
     conflict_stats[g] = evidence.conflict;
@@ -408,8 +410,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
                                              increment, config_.motion, kTranslationFailureNats);
   }
 
-  // 5. Members take their leader's pose, map (shared tiles) and path node.
+  // 5. Members take their leader's pose, map (shared tiles), path node and anomaly node.
   std::vector<std::shared_ptr<const PathNode>> nodes(leaders.size());
+  std::vector<std::shared_ptr<const AnomalyNode>> anomaly_nodes(leaders.size());
   std::vector<uint64_t> ids(leaders.size());
   for (size_t g = 0; g < leaders.size(); ++g) {
     auto node = std::make_shared<PathNode>();
@@ -417,6 +420,13 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     node->step = step;
     node->parent = particles_[leaders[g]].path;
     nodes[g] = std::move(node);
+    anomaly_nodes[g] = particles_[leaders[g]].anomaly;
+    if (!anomaly[g].empty()) {
+      auto added = std::make_shared<AnomalyNode>();
+      added->cells = std::move(anomaly[g]);
+      added->parent = std::move(anomaly_nodes[g]);
+      anomaly_nodes[g] = std::move(added);
+    }
     ids[g] = next_map_id_++;
   }
   for (size_t k = 0; k < n; ++k) {
@@ -426,6 +436,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     p.pose = proposed[leaders[g]];
     p.map_id = ids[g];
     p.path = nodes[g];
+    p.anomaly = anomaly_nodes[g];
     const double log_weight = exponent * log_pl[g] + motion_log_prior[g];
     p.log_weight += log_weight;
     p.cumulative_log_weight += log_weight;
