@@ -131,6 +131,7 @@ void SlamWorker::run() {
       if (restarted) {
         std::lock_guard<std::mutex> relock(mutex_);
         map_.grid.reset();
+        map_.anomaly.reset();
         ++map_.version;
         ++resets_;
       }
@@ -142,8 +143,10 @@ void SlamWorker::run() {
         }
         if (result.update.processed) {
           auto grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
+          auto anomaly = session_.engine().bestAnomalyLineage();
           std::lock_guard<std::mutex> relock(mutex_);
           map_.grid = std::move(grid);
+          map_.anomaly = std::move(anomaly);
           map_.stamp = stamp;
           ++map_.version;
         }
