@@ -11,7 +11,7 @@ parameters), never from the map being judged; the map's cells are put into world
 with the rigid transform that best aligns the SLAM path before the kidnap with the true path.
 
 Writes fig4.png (masses, BetP, and the ground truth with path and faults), fig5.png (NS, IC, EC,
-entropy with colour scales) and claims.json. Exit status 0 when every claim holds, 1 otherwise.
+entropy and the anomaly with colour scales) and claims.json. Exit status 0 when every claim holds, 1 otherwise.
 Usage: bench/paper/analyze.py WORLD_DIR GROUND_TRUTH FAULTS_JSON RUN_DIR OUT_DIR
 """
 import json
@@ -27,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 LAYERS = ["occupied", "free", "unknown", "conflict", "pignistic", "nonspecificity",
-          "internal_conflict", "external_conflict", "entropy"]
+          "internal_conflict", "external_conflict", "entropy", "anomaly"]
 
 
 def read_rows(path, cols):
@@ -187,6 +187,40 @@ def main(world_dir, gt_path, faults_path, run_dir, out_dir):
             "entropy": e, "entropy_other_walls": ent_base,
             "holds": e.get("median", 2.0) <= ent_base["p90"]}
 
+    # 2b. The anomaly (evidence contradicting the map's confident belief) singles both faults out
+    #     where EC grows on every wall: on hit cells (m(o) + m(∅) >= 0.5) its median on the fault
+    #     region is >= 5 x its median on other walls, and that ratio exceeds EC's on the same cells
+    #     (and so for the means).
+    #     Other walls' median anomaly is usually 0; the ratio is then reported as null.
+    anomaly = layers["anomaly"]
+    solid = observed & (layers["occupied"] + layers["conflict"] >= 0.5)
+    solid_walls = solid & world_mask(dilate(surface_w, 2)) & ~faults_any & ~room
+    an_base, ec_solid_base = stats(anomaly, solid_walls), stats(ec, solid_walls)
+    #     The doubled walls are the kidnap region's hit cells more than 0.1 m from a true wall
+    #     (the region's real walls, seen before and after, are not what changed).
+    ghost = solid & kidnap & ~world_mask(dilate(surface_w, 2))
+    for name, m in (("kidnap_doubled_walls", ghost), ("moving_object_line", solid & moving)):
+        a, e = stats(anomaly, m), stats(ec, m)
+        a_med, a_base = a.get("median", 0.0), an_base.get("median", 0.0)
+        ec_ratio = e.get("median", 0.0) / ec_solid_base["median"] \
+            if ec_solid_base.get("median", 0) > 0 else None
+        ratio = a_med / a_base if a_base > 0 else None
+        # Means too: EC's mean on other walls is high (it grows on every well-observed wall).
+        mean_ratio = a.get("mean", 0.0) / an_base["mean"] if an_base.get("mean", 0) > 0 else None
+        ec_mean_ratio = e.get("mean", 0.0) / ec_solid_base["mean"] \
+            if ec_solid_base.get("mean", 0) > 0 else None
+        claims["anomaly_" + name] = {
+            "claim": "median anomaly >= 5 x its median on other walls' hit cells, a larger ratio "
+                     "than EC's; the same for the means",
+            "anomaly": a, "anomaly_other_walls": an_base, "ratio": ratio, "mean_ratio": mean_ratio,
+            "ec": e, "ec_other_walls": ec_solid_base, "ec_ratio": ec_ratio,
+            "ec_mean_ratio": ec_mean_ratio,
+            "holds": bool(a_med > 0 and a_med >= 5 * a_base and
+                          (ec_ratio is None or ratio is None or ratio > ec_ratio) and
+                          (mean_ratio is None or (mean_ratio >= 5 and
+                                                  (ec_mean_ratio is None or
+                                                   mean_ratio > ec_mean_ratio))))}
+
     # 3. IC highest where few, balanced measurements exist: the wall surface band (cells a wall
     #    only partly covers, hit and passed through alike) against open floor and wall interiors.
     band = observed & world_mask(band_w) & ~faults_any
@@ -274,13 +308,17 @@ def main(world_dir, gt_path, faults_path, run_dir, out_dir):
     fig.savefig(os.path.join(out_dir, "fig4.png"), dpi=90)
     plt.close(fig)
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8))
+    fig, axes = plt.subplots(2, 3, figsize=(17, 8))
     show(axes[0, 0], ns, "non-specificity NS", "viridis", 0, 1, True)
     show(axes[0, 1], ic, "internal conflict IC (bit)", "viridis", 0, 1, True)
     show(axes[1, 0], ec, "external conflict EC (bit)", "magma", 0,
          max(1.0, float(np.percentile(ec[hit], 99))) if hit.any() else 1.0, True)
     show(axes[1, 1], ent, "entropy H(BetP) (bit)", "viridis", 0, 1, True)
-    fig.suptitle("Fig. 5 — the dimensions of uncertainty, and entropy", fontsize=12)
+    flagged = anomaly[anomaly > 0]
+    show(axes[1, 2], anomaly, "anomaly (bit)", "magma", 0,
+         max(1.0, float(np.percentile(flagged, 99))) if flagged.size else 1.0, True)
+    axes[0, 2].axis("off")
+    fig.suptitle("Fig. 5 — the dimensions of uncertainty, entropy, and the anomaly", fontsize=12)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "fig5.png"), dpi=90)
     plt.close(fig)

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(s.voxels - s.occupied_voxels));
   std::printf("%-20s %12s %12s %12s\n", "layer", "min", "mean", "max");
   for (int l = 0; l < es::kLayerCount; ++l) {
+    if (static_cast<es::Layer>(l) == es::Layer::kAnomaly) continue;  // not held by the voxels
     std::printf("%-20s %12.6f %12.6f %12.6f\n", es::layerNames()[l].c_str(), s.layers[l].min,
                 s.layers[l].mean, s.layers[l].max);
   }

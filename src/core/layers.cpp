@@ -2,17 +2,19 @@
 
 namespace evidential_slam {
 
-LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells) {
+LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells,
+                          const AnomalyGrid* anomaly) {
   CellBox box = grid.observedBox();
-  if (box.empty()) return extractLayers(grid, box);
+  if (box.empty()) return extractLayers(grid, box, anomaly);
   box.min_x -= margin_cells;
   box.min_y -= margin_cells;
   box.max_x += margin_cells;
   box.max_y += margin_cells;
-  return extractLayers(grid, box);
+  return extractLayers(grid, box, anomaly);
 }
 
-LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box) {
+LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box,
+                          const AnomalyGrid* anomaly) {
   LayerRaster r;
   r.resolution = grid.resolution();
   r.width = box.width();
@@ -31,6 +33,14 @@ LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box) {
         r.values[l][i] = static_cast<float>(layerValue(c, static_cast<Layer>(l)));
       }
     }
+  }
+  if (anomaly != nullptr) {
+    std::vector<float>& values = r.values[static_cast<int>(Layer::kAnomaly)];
+    anomaly->forEach([&](int x, int y, float bits) {
+      const int col = x - box.min_x, row = y - box.min_y;
+      if (col < 0 || row < 0 || col >= r.width || row >= r.height) return;
+      values[static_cast<size_t>(row) * r.width + col] = bits;
+    });
   }
   return r;
 }

@@ -34,7 +34,7 @@ const std::array<std::string, kLayerCount>& layerNames() {
   static const std::array<std::string, kLayerCount> names = {
       "occupied",  "free",           "unknown",           "conflict",
       "pignistic", "nonspecificity", "internal_conflict", "external_conflict",
-      "entropy"};
+      "entropy",   "anomaly"};
   return names;
 }
 
@@ -60,6 +60,8 @@ double layerValue(const Cell& c, Layer layer) {
       return externalConflict(c);
     case Layer::kEntropy:
       return entropyBits(c);
+    case Layer::kAnomaly:
+      return 0.0;  // not held by the cell (anomaly.h); extractLayers fills it from an AnomalyGrid
   }
   return 0.0;
 }

@@ -402,6 +402,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
   std::atomic<double> best_top(-std::numeric_limits<double>::infinity());
   std::vector<double> log_pl(leaders.size(), 0.0), conflict_added(leaders.size(), 0.0);
   std::vector<ScanConflict> conflict_stats(leaders.size());
+  std::vector<std::vector<AnomalyCell>> anomaly(leaders.size());
   pool_->run(leaders.size(), [&](size_t g, int worker) {
     Particle& p = particles_[leaders[g]];
     if (!map_updates_) {  // paused mapping: weigh only
@@ -420,6 +421,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
            !best_top.compare_exchange_weak(seen, top, std::memory_order_relaxed)) {
     }
     const bool may_be_best = !(top < seen);
+    // The anomaly against the map before the scan (anomaly.h), kept on the group's lineage.
+    scanAnomaly(ws.accumulator, p.map, beam_model->openSpaceRadius(), &anomaly[g]);
     conflict_added[g] = beam_model->applyScan(ws.accumulator, &p.map,
                                               may_be_best ? &conflict_stats[g] : nullptr);
   });
@@ -429,8 +432,9 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     if (profiler->floor_enabled) replayFloor(profiler, *beam_model, scan, proposed, leaders);
   }
 
-  // 5. Members take their leader's pose, map (shared tiles) and path node.
+  // 5. Members take their leader's pose, map (shared tiles), path node and anomaly node.
   std::vector<std::shared_ptr<const PathNode>> nodes(leaders.size());
+  std::vector<std::shared_ptr<const AnomalyNode>> anomaly_nodes(leaders.size());
   std::vector<uint64_t> ids(leaders.size());
   for (size_t g = 0; g < leaders.size(); ++g) {
     auto node = std::make_shared<PathNode>();
@@ -438,6 +442,13 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     node->step = step;
     node->parent = particles_[leaders[g]].path;
     nodes[g] = std::move(node);
+    anomaly_nodes[g] = particles_[leaders[g]].anomaly;
+    if (!anomaly[g].empty()) {
+      auto added = std::make_shared<AnomalyNode>();
+      added->cells = std::move(anomaly[g]);
+      added->parent = std::move(anomaly_nodes[g]);
+      anomaly_nodes[g] = std::move(added);
+    }
     ids[g] = next_map_id_++;
   }
   for (size_t k = 0; k < n; ++k) {
@@ -447,6 +458,7 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
     p.pose = proposed[leaders[g]];
     p.map_id = ids[g];
     p.path = nodes[g];
+    p.anomaly = anomaly_nodes[g];
     const double log_weight = exponent * log_pl[g] + motion_log_prior[g];
     p.log_weight += log_weight;
     p.cumulative_log_weight += log_weight;

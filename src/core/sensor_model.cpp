@@ -418,8 +418,13 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
                                 ScanAccumulator* scratch, ScanConflict* conflict) const {
   if (conflict != nullptr) *conflict = ScanConflict{};
   if (traced.cells.empty()) return 0.0;
+  accumulateScan(traced, scratch);
+  return applyScan(scratch, map, conflict);
+}
+
+void BeamModel::accumulateScan(const TracedScan& traced, ScanAccumulator* scratch) const {
   // The window is centred on the first traced cell (the sensor's) and covers the longest beam.
-  const RayCell& first = traced.cells.front();
+  const RayCell first = traced.cells.empty() ? RayCell{0, 0, 0.0f} : traced.cells.front();
   scratch->reset(CellIndex{first.x, first.y}, windowHalfCells());
   for (const TracedBeam& b : traced.beams) {
     for (uint32_t i = b.begin; i < b.end; ++i) {
@@ -443,9 +448,11 @@ double BeamModel::applyScan(const ScanAccumulator& scratch, EvidentialGridMap* m
 
 BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,
                                                      const LaserScan& scan, EvidentialGridMap* map,
-                                                     ScanAccumulator* scratch, int stride) const {
+                                                     ScanAccumulator* scratch, int stride,
+                                                     std::vector<AnomalyCell>* anomaly) const {
   ScanEvidence out;
   out.log_plausibility = weighAndAccumulate(sensor_in_map, scan, *map, scratch, stride);
+  if (anomaly != nullptr) scanAnomaly(*scratch, *map, open_space_radius_, anomaly);
   out.conflict_added_bits = applyScan(*scratch, map, &out.conflict);
   return out;
 }

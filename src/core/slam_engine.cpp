@@ -145,6 +145,16 @@ const EvidentialGridMap& SlamEngine::bestMap() const {
   return filter_->best().map;
 }
 
+AnomalyGrid SlamEngine::bestAnomaly() const {
+  if (filter_->particles().empty()) return AnomalyGrid();
+  return accumulateAnomaly(filter_->best().anomaly.get());
+}
+
+std::shared_ptr<const AnomalyNode> SlamEngine::bestAnomalyLineage() const {
+  if (filter_->particles().empty()) return nullptr;
+  return filter_->best().anomaly;
+}
+
 Pose2 SlamEngine::bestPose() const {
   if (!have_last_processed_ || filter_->particles().empty()) {
     if (start_ && stats_.scans_received == 0) return start_->pose;

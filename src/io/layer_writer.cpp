@@ -54,7 +54,8 @@ bool stageImage(const mrpt::img::CImage& img, const std::string& path, AtomicFil
 }
 
 // Scale of each layer's PNG. Masses, BetP, NS, IC and H live in [0, 1] (IC and H in bits over a
-// two-element frame); EC is unbounded and is scaled by its maximum so its structure stays visible.
+// two-element frame); EC and the anomaly are unbounded and are scaled by their maximum so their
+// structure stays visible.
 LayerImageScale scaleFor(Layer layer, float min_value, float max_value) {
   LayerImageScale s;
   s.name = layerName(layer);
@@ -62,7 +63,9 @@ LayerImageScale scaleFor(Layer layer, float min_value, float max_value) {
   s.max_value = max_value;
   s.white = 0.0;
   s.black = 1.0;
-  if (layer == Layer::kExternalConflict) s.black = max_value > 0.0f ? max_value : 1.0;
+  if (layer == Layer::kExternalConflict || layer == Layer::kAnomaly) {
+    s.black = max_value > 0.0f ? max_value : 1.0;
+  }
   return s;
 }
 

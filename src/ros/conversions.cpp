@@ -172,7 +172,9 @@ void toEvidentialGridMsg(const LayerRaster& raster, const std_msgs::Header& head
 
 OccupancyRendering layerRendering(Layer layer, double external_conflict_display_max) {
   OccupancyRendering r;
-  if (layer == Layer::kExternalConflict) r.full_scale = external_conflict_display_max;
+  if (layer == Layer::kExternalConflict || layer == Layer::kAnomaly) {
+    r.full_scale = external_conflict_display_max;
+  }
   return r;
 }
 

@@ -69,7 +69,8 @@ void MapPublisher::run() {
 }
 
 void MapPublisher::publish(const MapSnapshot& snapshot, bool changed) {
-  const LayerRaster raster = extractLayers(*snapshot.grid);
+  const AnomalyGrid anomaly = accumulateAnomaly(snapshot.anomaly.get());
+  const LayerRaster raster = extractLayers(*snapshot.grid, 10, &anomaly);
   std_msgs::Header header;
   header.stamp.fromSec(snapshot.stamp);
   header.frame_id = map_frame_;

@@ -68,11 +68,14 @@ void SlamWorker::changeOnWorker(const std::function<void(MappingSession& session
     change(session_);
     if (!map_changed) return;
     std::shared_ptr<const EvidentialGridMap> grid;
+    std::shared_ptr<const AnomalyNode> anomaly;
     if (!session_.engine().filter().particles().empty()) {
       grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
+      anomaly = session_.engine().bestAnomalyLineage();
     }
     std::lock_guard<std::mutex> lock(mutex_);
     map_.grid = std::move(grid);
+    map_.anomaly = std::move(anomaly);
     ++map_.version;
   });
 }
@@ -131,6 +134,7 @@ void SlamWorker::run() {
       if (restarted) {
         std::lock_guard<std::mutex> relock(mutex_);
         map_.grid.reset();
+        map_.anomaly.reset();
         ++map_.version;
         ++resets_;
       }
@@ -142,8 +146,10 @@ void SlamWorker::run() {
         }
         if (result.update.processed) {
           auto grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
+          auto anomaly = session_.engine().bestAnomalyLineage();
           std::lock_guard<std::mutex> relock(mutex_);
           map_.grid = std::move(grid);
+          map_.anomaly = std::move(anomaly);
           map_.stamp = stamp;
           ++map_.version;
         }

@@ -55,6 +55,7 @@ MapSave captureMapSave(const MappingSession& session) {
   const SlamEngine& engine = session.engine();
   MapSave save;
   save.map = engine.bestMap();
+  save.anomaly = engine.bestAnomaly();
   save.trajectory = engine.bestTrajectory();
   save.conflicts = session.conflictLog();
   save.info.robot_pose = engine.bestPose();
@@ -98,7 +99,7 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
   report->files.push_back(csv);
 
   const EvidentialGridMap& map = save.map;
-  const LayerRaster raster = extractLayers(map);
+  const LayerRaster raster = extractLayers(map, 10, &save.anomaly);
   io::LayerWriterConfig layer_config;
   layer_config.occupied_thresh = config.occupied_thresh;
   layer_config.free_thresh = config.free_thresh;

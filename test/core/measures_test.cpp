@@ -153,7 +153,7 @@ TEST(MeasuresTest, InternalConflictEqualsEntropyForBayesian) {
 // Layer names, order and spelling, exactly as the output files / topics use them.
 TEST(LayerNamesTest, OrderAndSpelling) {
   const auto& names = layerNames();
-  ASSERT_EQ(names.size(), 9u);
+  ASSERT_EQ(names.size(), 10u);
   EXPECT_EQ(names[0], "occupied");
   EXPECT_EQ(names[1], "free");
   EXPECT_EQ(names[2], "unknown");
@@ -163,9 +163,11 @@ TEST(LayerNamesTest, OrderAndSpelling) {
   EXPECT_EQ(names[6], "internal_conflict");
   EXPECT_EQ(names[7], "external_conflict");
   EXPECT_EQ(names[8], "entropy");
+  EXPECT_EQ(names[9], "anomaly");
   EXPECT_EQ(layerName(Layer::kOccupied), "occupied");
   EXPECT_EQ(layerName(Layer::kExternalConflict), "external_conflict");
   EXPECT_EQ(layerName(Layer::kEntropy), "entropy");
+  EXPECT_EQ(layerName(Layer::kAnomaly), "anomaly");
   for (int i = 0; i < kLayerCount; ++i) {
     EXPECT_EQ(layerName(static_cast<Layer>(i)), names[i]);
   }
@@ -185,12 +187,14 @@ TEST(LayerValueTest, EveryLayerOfAConflictingCell) {
   EXPECT_NEAR(layerValue(c, Layer::kInternalConflict), 0.22877123795494, kTol);
   EXPECT_NEAR(layerValue(c, Layer::kExternalConflict), 1.0, kTol);
   EXPECT_NEAR(layerValue(c, Layer::kEntropy), 0.88129089923069, kTol);
+  EXPECT_EQ(layerValue(c, Layer::kAnomaly), 0.0);  // held beside the map, not by the cell
 }
 
-// layerValue of a vacuous cell: m(o)=0, m(e)=0, m(Θ)=1, m(∅)=0, BetP 0.5, NS 1, IC 0, EC 0, H 1.
+// layerValue of a vacuous cell: m(o)=0, m(e)=0, m(Θ)=1, m(∅)=0, BetP 0.5, NS 1, IC 0, EC 0, H 1,
+// anomaly 0.
 TEST(LayerValueTest, EveryLayerOfAVacuousCell) {
   const Cell c;
-  const double expected[kLayerCount] = {0.0, 0.0, 1.0, 0.0, 0.5, 1.0, 0.0, 0.0, 1.0};
+  const double expected[kLayerCount] = {0.0, 0.0, 1.0, 0.0, 0.5, 1.0, 0.0, 0.0, 1.0, 0.0};
   for (int i = 0; i < kLayerCount; ++i) {
     EXPECT_NEAR(layerValue(c, static_cast<Layer>(i)), expected[i], kTol) << layerNames()[i];
   }

@@ -215,6 +215,8 @@ LayerRaster syntheticRaster() {
     for (int col = 0; col < 4; ++col) set(row, col, 0, 0, 1, 0, 0);
   }
   for (size_t i = 0; i < n; ++i) r.observed[i] = 0;
+  r.values[static_cast<int>(Layer::kAnomaly)][1] = 6.0f;      // row 0 (bottom), col 1
+  r.values[static_cast<int>(Layer::kAnomaly)][1 * 4 + 2] = 1.5f;  // row 1, col 2
   set(0, 0, 1, 0, 0, 0, 0);  // lowest y, lowest x: occupied
   r.observed[0] = 1;
   set(0, 1, 0, 1, 0, 0, 0);  // free
@@ -244,7 +246,7 @@ TEST(LayerWriter, WritesAllFilesNorthUpDarkIsHigh) {
   LayerWriteResult result;
   std::string error;
   ASSERT_TRUE(writeLayers(raster, dir.string(), LayerWriterConfig(), &result, &error)) << error;
-  EXPECT_EQ(result.files.size(), 9u * 2 + 1 + 1 + 1);
+  EXPECT_EQ(result.files.size(), kLayerCount * 2u + 1 + 1 + 1);
   EXPECT_DOUBLE_EQ(result.external_conflict_scale, 4.0);
 
   for (int l = 0; l < kLayerCount; ++l) {
@@ -273,6 +275,12 @@ TEST(LayerWriter, WritesAllFilesNorthUpDarkIsHigh) {
   EXPECT_EQ(ec.at(0, 3)[0], 0);    // EC = max, top right
   EXPECT_EQ(ec.at(1, 2)[0], 128);  // EC = max / 2
   EXPECT_EQ(ec.at(2, 0)[0], 255);
+  // The anomaly, unbounded too, is scaled by its own maximum: 6 bits black, 1.5 bits 3/4 white.
+  Png anomaly;
+  ASSERT_TRUE(decodePng((dir / "anomaly.png").string(), &anomaly));
+  EXPECT_EQ(anomaly.at(2, 1)[0], 0);
+  EXPECT_EQ(anomaly.at(1, 2)[0], 191);
+  EXPECT_EQ(anomaly.at(0, 0)[0], 255);
 
   // Composite RGB = (m(o), m(e), m(Θ)); conflict is black.
   Png comp;

@@ -122,7 +122,8 @@ TEST(Conversions, PoseRoundTrip) {
   EXPECT_FALSE(upside_down);
 }
 
-// A 2 x 1 raster: cell 0 observed (m(o) = 0.8, BetP 0.9, EC 1 bit), cell 1 never observed.
+// A 2 x 1 raster: cell 0 observed (m(o) = 0.8, BetP 0.9, EC 1 bit, anomaly 3 bits), cell 1
+// never observed.
 LayerRaster twoCellRaster() {
   LayerRaster r;
   r.resolution = 0.1;
@@ -135,6 +136,7 @@ LayerRaster twoCellRaster() {
   r.values[static_cast<int>(Layer::kPignistic)] = {0.9f, 0.5f};
   r.values[static_cast<int>(Layer::kExternalConflict)] = {1.0f, 0.0f};
   r.values[static_cast<int>(Layer::kUnknown)] = {0.0f, 1.0f};
+  r.values[static_cast<int>(Layer::kAnomaly)] = {3.0f, 0.0f};
   r.observed = {1, 0};
   return r;
 }
@@ -159,6 +161,11 @@ TEST(Conversions, OccupancyGridRenderings) {
   toOccupancyGrid(r, Layer::kExternalConflict, layerRendering(Layer::kExternalConflict, 2.0), h,
                   &g);
   EXPECT_EQ(g.data, (std::vector<int8_t>{50, 0}));
+  // So does the anomaly, clamped at 100: 3 bits of 4 -> 75, of 2 -> 100.
+  toOccupancyGrid(r, Layer::kAnomaly, layerRendering(Layer::kAnomaly, 4.0), h, &g);
+  EXPECT_EQ(g.data, (std::vector<int8_t>{75, 0}));
+  toOccupancyGrid(r, Layer::kAnomaly, layerRendering(Layer::kAnomaly, 2.0), h, &g);
+  EXPECT_EQ(g.data, (std::vector<int8_t>{100, 0}));
 }
 
 // The map topic: 100 above occupied_thresh, 0 below free_thresh, -1 between them (the thresholds
@@ -189,10 +196,11 @@ TEST(Conversions, EvidentialGridMessageHasEveryLayer) {
   h.frame_id = "map";
   EvidentialGrid m;
   toEvidentialGridMsg(r, h, &m);
-  ASSERT_EQ(m.layers.size(), 9u);
-  ASSERT_EQ(m.data.size(), 9u);
+  ASSERT_EQ(m.layers.size(), 10u);
+  ASSERT_EQ(m.data.size(), 10u);
   EXPECT_EQ(m.layers[0], "occupied");
   EXPECT_EQ(m.layers[8], "entropy");
+  EXPECT_EQ(m.layers[9], "anomaly");
   for (const auto& layer : m.data) EXPECT_EQ(layer.data.size(), 2u);
   EXPECT_FLOAT_EQ(m.data[0].data[0], 0.8f);
   EXPECT_EQ(m.observed, (std::vector<uint8_t>{1, 0}));

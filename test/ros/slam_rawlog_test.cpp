@@ -57,7 +57,7 @@ std::string param(const std::string& name) {
   return value;
 }
 
-// The whole log is mapped: every scan reaches the path, the grid carries nine consistent layers,
+// The whole log is mapped: every scan reaches the path, the grid carries ten consistent layers,
 // map -> odom exists, and the trajectory saved by save_map matches the ground truth.
 TEST(SlamRawlog, MapsTheLogThroughRos) {
   bool wait_for_player = true;  // false when a bag is played instead
@@ -94,7 +94,7 @@ TEST(SlamRawlog, MapsTheLogThroughRos) {
     const std::vector<std::string> names = {
         "occupied",  "free",           "unknown",           "conflict",
         "pignistic", "nonspecificity", "internal_conflict", "external_conflict",
-        "entropy"};
+        "entropy",   "anomaly"};
     EXPECT_EQ(g.layers, names);
     ASSERT_EQ(g.data.size(), names.size());
     const size_t cells = static_cast<size_t>(g.info.width) * g.info.height;

@@ -1,10 +1,11 @@
-// Extraction of the nine uncertainty layers of a grid into dense float rasters.
+// Extraction of the layers of a grid (and of its anomaly, anomaly.h) into dense float rasters.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/measures.h"
 
@@ -24,9 +25,12 @@ struct LayerRaster {
   const std::vector<float>& layer(Layer l) const { return values[static_cast<int>(l)]; }
 };
 
-// Rasterises the observed part of `grid` plus `margin_cells` of vacuous border on each side.
-LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells = 10);
+// Rasterises the observed part of `grid` plus `margin_cells` of vacuous border on each side. The
+// anomaly layer comes from `anomaly` (0 everywhere without it).
+LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells = 10,
+                          const AnomalyGrid* anomaly = nullptr);
 // Rasterises an explicit box.
-LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box);
+LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box,
+                          const AnomalyGrid* anomaly = nullptr);
 
 }  // namespace evidential_slam

@@ -19,7 +19,8 @@ double internalConflict(const Cell& c);
 // External conflict EC = -log2(1 - m(∅)), eq. (18), in bits; unbounded.
 double externalConflict(const Cell& c);
 
-// The nine layers, in this order everywhere (files, topics, messages).
+// The ten layers, in this order everywhere (files, topics, messages). The first nine are measures
+// of a cell's belief; the anomaly is accumulated beside the map (anomaly.h).
 enum class Layer : int {
   kOccupied = 0,      // m(o)
   kFree,              // m(e)
@@ -30,11 +31,13 @@ enum class Layer : int {
   kInternalConflict,  // IC
   kExternalConflict,  // EC (bits, unbounded)
   kEntropy,           // H(BetP)
+  kAnomaly,           // evidence contradicting the map's confident belief (bits, unbounded)
 };
-constexpr int kLayerCount = 9;
+constexpr int kLayerCount = 10;
 const std::array<std::string, kLayerCount>& layerNames();
 const std::string& layerName(Layer layer);
-// Value of one layer for a cell. Unobserved (vacuous) cells give the vacuous value of each layer.
+// Value of one layer for a cell. Unobserved (vacuous) cells give the vacuous value of each layer;
+// kAnomaly, which the cell does not hold, gives 0.
 double layerValue(const Cell& c, Layer layer);
 
 }  // namespace evidential_slam

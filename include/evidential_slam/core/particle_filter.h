@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
@@ -36,6 +37,8 @@ struct Particle {
   EvidentialGridMap map;
   uint64_t map_id = 0;  // equal ids: identical maps (copies not written since)
   std::shared_ptr<const PathNode> path;
+  // What the scans contradicted in this particle's map before each was integrated (anomaly.h).
+  std::shared_ptr<const AnomalyNode> anomaly;
 };
 
 struct FilterStepInfo {

@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
@@ -92,6 +93,34 @@ class ScanAccumulator {
   // into `map`'s open space (ScanConflict::open_space_added), with open space checked `radius`
   // cells around each cell. Reads the map only, and only around strongly contradicted hits.
   double openSpaceConflict(const EvidentialGridMap& map, int radius) const;
+  // The scan's mass of cell (x, y); nullptr when the scan does not touch it.
+  const ScanMass* find(int x, int y) const {
+    const int tx = (x >> kTileBits) - tile_x0_, ty = (y >> kTileBits) - tile_y0_;
+    if (half_ < 0 || static_cast<unsigned>(tx) >= static_cast<unsigned>(tiles_side_) ||
+        static_cast<unsigned>(ty) >= static_cast<unsigned>(tiles_side_)) {
+      return nullptr;
+    }
+    const Slot& slot = slots_[static_cast<size_t>(ty) * tiles_side_ + tx];
+    if (slot.stamp != stamp_ || slot.block >= used_blocks_) return nullptr;
+    const Block& block = blocks_[slot.block];
+    const int k = EvidentialGridMap::cellInTile(x, y);
+    if (((block.touched[static_cast<size_t>(k >> 6)] >> (k & 63)) & 1u) == 0) return nullptr;
+    return &block.mass[static_cast<size_t>(k)];
+  }
+  // fn(x, y, mass) for every cell the scan touches, tile by tile.
+  template <typename Fn>
+  void forEachCell(Fn&& fn) const {
+    for (uint32_t b = 0; b < used_blocks_; ++b) {
+      const Block& block = blocks_[b];
+      for (size_t w = 0; w < block.touched.size(); ++w) {
+        for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
+          const size_t k = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
+          fn((block.tile_x << kTileBits) | static_cast<int>(k & (kTileSize - 1)),
+             (block.tile_y << kTileBits) | static_cast<int>(k >> kTileBits), block.mass[k]);
+        }
+      }
+    }
+  }
 
  private:
   struct Slot {
@@ -168,6 +197,9 @@ class BeamModel {
   // conflict.
   double integrateScan(const TracedScan& traced, EvidentialGridMap* map, ScanAccumulator* scratch,
                        ScanConflict* conflict = nullptr) const;
+  // The first half of integrateScan: the scan's evidence in `scratch`, fused within the scan, not
+  // applied to any map (for its anomaly against a map that stays as it is).
+  void accumulateScan(const TracedScan& traced, ScanAccumulator* scratch) const;
 
   // Cells around a hit within which the forward model's hit window reaches,
   // ceil(forward_window * forward_sigma / resolution): a hit this close to a cell the map does not
@@ -182,12 +214,14 @@ class BeamModel {
   };
   // traceScan, scanLogPlausibility (every `stride`-th hit beam) and integrateScan in one traversal
   // of the beams, with the same results: the weight reads the map before the scan is applied.
-  // It never stores the traced cells. = weighAndAccumulate, then applyScan.
+  // It never stores the traced cells. = weighAndAccumulate, then applyScan. With `anomaly`, the
+  // scan's anomaly against the map before the scan is appended to it (anomaly.h).
   ScanEvidence weighAndIntegrate(const Pose2& sensor_in_map, const LaserScan& scan,
-                                 EvidentialGridMap* map, ScanAccumulator* scratch,
-                                 int stride) const;
-  // weighAndIntegrate in two halves. weighAndAccumulate: the traversal, returning the scan's log plausibility on `map` (every
-  // `stride`-th hit beam) and leaving the scan's evidence in `scratch`; `map` is not written.
+                                 EvidentialGridMap* map, ScanAccumulator* scratch, int stride,
+                                 std::vector<AnomalyCell>* anomaly = nullptr) const;
+  // weighAndIntegrate in two halves. weighAndAccumulate: the traversal, returning the scan's log
+  // plausibility on `map` (every `stride`-th hit beam) and leaving the scan's evidence in
+  // `scratch`; `map` is not written.
   double weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan& scan,
                             const EvidentialGridMap& map, ScanAccumulator* scratch,
                             int stride) const;

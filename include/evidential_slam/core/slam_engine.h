@@ -95,6 +95,11 @@ class SlamEngine {
 
   // Best particle (highest cumulative weight) and what it carries.
   const EvidentialGridMap& bestMap() const;
+  // What the scans contradicted in the best particle's map, each before it was integrated
+  // (anomaly.h); empty before the first processed scan.
+  AnomalyGrid bestAnomaly() const;
+  // The same as the best particle's lineage (cheap to copy; accumulateAnomaly sums it).
+  std::shared_ptr<const AnomalyNode> bestAnomalyLineage() const;
   Pose2 bestPose() const;
   // The best particle's path, one pose per scan received (poses between processed scans are the
   // particle's pose at the last processed scan composed with the odometry since then).

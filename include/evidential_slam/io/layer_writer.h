@@ -1,6 +1,7 @@
-// Writes the nine map layers of a LayerRaster to a directory:
+// Writes the ten map layers of a LayerRaster to a directory:
 //   <name>.png      one 8-bit grey image per layer, north-up, dark = high value (the paper's
-//                   convention: black = 1); EC, unbounded, is scaled by its maximum in the map.
+//                   convention: black = 1); EC and the anomaly, unbounded, are scaled by their
+//                   maximum in the map.
 //   composite.png   RGB = (m(o), m(e), m(Θ)): occupied red, free green, unknown blue, and
 //                   conflict, which takes mass from all three, dark.
 //   <name>.npy      the raw float32 values, shape (height, width), row 0 = lowest y (the layout
@@ -51,9 +52,10 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
                  LayerWriteResult* result, std::string* error, AtomicFiles* files = nullptr);
 
 // Writes every layer as a map_server image + metadata pair: <name>.pgm (north-up, dark = high
-// value, EC scaled by its maximum as above) and <name>.yaml. pignistic.yaml loads in map_server's
-// trinary mode with `config`'s thresholds (an ordinary occupancy map); the other layers load in
-// scale mode with thresholds 1 and 0, so map_server turns a layer value v into about 99 v.
+// value, EC and the anomaly scaled by their maximum as above) and <name>.yaml. pignistic.yaml
+// loads in map_server's trinary mode with `config`'s thresholds (an ordinary occupancy map); the
+// other layers load in scale mode with thresholds 1 and 0, so map_server turns a layer value v
+// into about 99 v.
 // Written like writeLayers' files.
 bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
                           const LayerWriterConfig& config, std::vector<std::string>* files,

@@ -55,7 +55,8 @@ struct OccupancyRendering {
   double full_scale = 1.0;  // layer value drawn as 100 (EC: its display maximum)
 };
 // The rendering of `layer` on ~layers/<name>: values in [0, 1] (masses, BetP, NS, and IC and H in
-// bits over a two-element frame) scale by 100; EC by 100 / external_conflict_display_max.
+// bits over a two-element frame) scale by 100; EC and the anomaly by 100 /
+// external_conflict_display_max.
 OccupancyRendering layerRendering(Layer layer, double external_conflict_display_max);
 void toOccupancyGrid(const LayerRaster& raster, Layer layer, const OccupancyRendering& rendering,
                      const std_msgs::Header& header, nav_msgs::OccupancyGrid* out);

@@ -22,6 +22,7 @@ struct MapSnapshot {
   std::shared_ptr<const EvidentialGridMap> grid;  // null before the first processed scan
   double stamp = 0.0;                             // of the scan that last changed it
   uint64_t version = 0;                           // changes whenever the map does (0: no map)
+  std::shared_ptr<const AnomalyNode> anomaly;      // the best particle's (core/anomaly.h)
 };
 
 class SlamWorker {

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/core/parameters.h"
@@ -49,6 +50,7 @@ struct MapFilesReport {
 // What a saved map holds, taken from a session at save time (captureMapSave).
 struct MapSave {
   EvidentialGridMap map;  // the best particle's (a copy sharing its tiles)
+  AnomalyGrid anomaly;    // the best particle's anomaly layer (core/anomaly.h)
   std::vector<StampedPose> trajectory;
   std::vector<ConflictRecord> conflicts;
   // The map file's pose, odometry pose, parameters and metadata; the caller may add to the
@@ -56,7 +58,7 @@ struct MapSave {
   io::MapFileInfo info;
 };
 
-// The best particle's map, path and pose, the odometry pose with it, the conflict record, every
+// The best particle's map, anomaly, path and pose, the odometry pose with it, the conflict record, every
 // parameter's value (parameterValues) and as metadata the scan counts, the last scan's stamp and
 // whether mapping was paused. Read the session where it does not run (the node's worker thread).
 MapSave captureMapSave(const MappingSession& session);

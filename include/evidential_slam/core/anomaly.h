@@ -1,0 +1,80 @@
+// The anomaly layer: per cell, the evidence of scans that contradicts what a map held with
+// confidence, accumulated in bits like external conflict (EC) but only where the contradiction
+// cannot come from an ordinary surface:
+//   - a hit in open space: a scan puts an obstacle (s(o) >= 1/2) on a cell the map believes free
+//     (m̃(e) s(o) >= 1/2), with every cell within the forward model's hit window believed free too
+//     (the conflict alarm's open-space conflict, sensor_model.h): something appeared;
+//   - a pass through an obstacle: beams clear (s(e) >= 1/2) a cell the map believes occupied
+//     (m̃(o) s(e) >= 1/2), and the scan sees no surface within that window around it: something
+//     was removed (an opened door, a moved shelf).
+// A wall's surface cells are partly wall and partly free: beams grazing the wall clear them and
+// others hit them, which grows their EC at every pass. The scan hits the wall next to such a cell,
+// and the map holds the wall next to a hit on it, so neither rule flags them.
+// The anomaly of one update of a cell is -log2(1 - K), K the conflict of that rule
+// (m̃(e) s(o) or m̃(o) s(e)), EC's increment. It is read from the map before the scan, never fed
+// back into it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "evidential_slam/core/evidential_grid.h"
+
+namespace evidential_slam {
+
+class ScanAccumulator;
+
+// One cell's anomaly from one scan.
+struct AnomalyCell {
+  int x = 0;
+  int y = 0;
+  float bits = 0.0f;
+};
+
+// Appends to `out` the anomaly of the scan held in `scan` (accumulated, not yet applied) against
+// `map`, with neighbourhoods `radius` cells around each cell (BeamModel::openSpaceRadius()).
+void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int radius,
+                 std::vector<AnomalyCell>* out);
+
+// Per-cell anomaly accumulated over scans (bits). Sparse: most cells never hold any.
+class AnomalyGrid {
+ public:
+  void add(int x, int y, float bits);
+  void add(const std::vector<AnomalyCell>& cells);
+  // 0 for a cell without anomaly.
+  float at(int x, int y) const;
+  size_t size() const { return cells_.size(); }
+  bool empty() const { return cells_.empty(); }
+  void clear() { cells_.clear(); }
+  double total() const;
+  // fn(x, y, bits) for every cell holding anomaly, in no particular order.
+  template <typename Fn>
+  void forEach(Fn&& fn) const {
+    for (const auto& [key, bits] : cells_) fn(keyX(key), keyY(key), bits);
+  }
+
+ private:
+  static uint64_t key(int x, int y) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) | static_cast<uint32_t>(y);
+  }
+  static int keyX(uint64_t key) { return static_cast<int>(static_cast<uint32_t>(key >> 32)); }
+  static int keyY(uint64_t key) { return static_cast<int>(static_cast<uint32_t>(key)); }
+  std::unordered_map<uint64_t, float> cells_;
+};
+
+// What one scan added to one particle's anomaly, on that particle's lineage (like its path:
+// children share their ancestors' nodes, so resampling copies a pointer). Scans that add
+// nothing add no node.
+struct AnomalyNode {
+  std::vector<AnomalyCell> cells;
+  std::shared_ptr<const AnomalyNode> parent;
+  ~AnomalyNode();  // releases long chains iteratively (no deep recursion)
+};
+
+// The anomaly of a lineage: every node's cells summed.
+AnomalyGrid accumulateAnomaly(const AnomalyNode* last);
+
+}  // namespace evidential_slam

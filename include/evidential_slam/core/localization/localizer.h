@@ -1,0 +1,156 @@
+// Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
+// only; each update samples the odometry motion model, corrects the samples by the SLAM's scan
+// matcher (scan_matching: once from the estimate when the cloud has converged, the correction
+// applied to every sample, with the wide-basin search when that match does not explain the scan;
+// else each sample refined on its own), weighs them by the evidential forward model (BeamModel,
+// tempered like the SLAM's weights) and never writes the map. Every resample_interval
+// updates the particles are resampled with KLD-sampling, which adapts their number to the
+// spread of the cloud between min_particles and max_particles; with recovery_alpha_slow/_fast,
+// random poses from the map's free space are added when the scans' plausibility drops (augmented
+// MCL, as amcl). The pose estimate is the mean and covariance of the heaviest cluster of
+// particles. The anomaly of every processed scan at the estimate is accumulated against the map
+// (anomaly.h): what changed since the map was made.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "evidential_slam/core/anomaly.h"
+#include "evidential_slam/core/config.h"
+#include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/laser_scan.h"
+#include "evidential_slam/core/localization/localization_config.h"
+#include "evidential_slam/core/pose2.h"
+#include "evidential_slam/core/slam_engine.h"
+
+namespace evidential_slam {
+
+class Rng;
+class WorkerPool;
+
+struct LocalizationParticle {
+  Pose2 pose;
+  double weight = 0.0;  // normalised: the particles' weights sum to 1
+};
+
+// What one call of processScan did.
+struct LocalizationUpdate {
+  bool processed = false;  // passed the motion gate: the particles moved and were weighed
+  bool rejected = false;   // unusable scan or odometry, or no particles yet; `why` says why
+  std::string why;
+  bool resampled = false;
+  size_t particles = 0;               // after this scan
+  double mean_log_plausibility = 0.0;  // per weighed beam, over the particles (processed scans)
+  size_t random_particles = 0;        // drawn from free space by the recovery at this scan
+  double anomaly_added_bits = 0.0;    // the anomaly this scan added at the estimate
+};
+
+struct LocalizerStats {
+  uint64_t scans_received = 0;
+  uint64_t scans_processed = 0;
+  uint64_t scans_rejected = 0;
+  uint64_t resamplings = 0;
+  uint64_t particle_updates = 0;  // Σ over processed scans of the particles updated
+  uint64_t wide_matches = 0;      // updates whose match from the estimate ran the wide search
+  size_t max_particles_used = 0;
+  size_t min_particles_used = 0;  // over the processed scans (0 before the first)
+};
+
+class Localizer {
+ public:
+  // `slam` gives the sensor, motion and matcher models, the likelihood temperature, the seed and
+  // the threads (its particle count and resolution are not used: the map has its own). Throws
+  // std::invalid_argument for an invalid configuration (check isValid first).
+  Localizer(const LocalizationConfig& config, const SlamConfig& slam);
+  ~Localizer();
+  Localizer(const Localizer&) = delete;
+  Localizer& operator=(const Localizer&) = delete;
+
+  // The map to localize on (its tiles shared, never written). Drops the particles, the trajectory
+  // and the anomaly; false (and `why`) for a map without an observed cell.
+  bool setMap(const EvidentialGridMap& map, std::string* why);
+  const EvidentialGridMap& map() const { return map_; }
+
+  // Draws particles from N(pose, covariance) (x, y, θ), as many as KLD-sampling asks for their
+  // spread. The next scan is weighed where they are, without motion. The trajectory and the
+  // anomaly go on. False (and `why`) without
+  // a map, for a non-finite pose or a covariance that is not symmetric positive semi-definite.
+  bool resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, std::string* why);
+  // resetAt with the configured initial_cov_xx, _yy, _aa.
+  bool resetAt(const Pose2& pose, std::string* why);
+  // Spreads max_particles uniformly over the map's free space (observed cells with BetP(o) <
+  // kFreeSpaceBetP and NS < kFreeSpaceNS) with uniform headings. False (and `why`) when the map
+  // has no free space.
+  bool globalLocalization(std::string* why);
+  static constexpr double kFreeSpaceBetP = 0.25;
+  static constexpr double kFreeSpaceNS = 0.5;
+
+  // `odometry`: the robot's odometry pose (odom frame) at the scan's stamp. Updates once the
+  // robot moved update_min_d or turned update_min_a since the last update (or at the first scan
+  // after a reset).
+  LocalizationUpdate processScan(const Pose2& odometry, const LaserScan& scan);
+
+  // New run-time parameters (the seed and threads of `slam` keep their values); the particles
+  // are kept. False (and `why`) when invalid; nothing changes then.
+  bool reconfigure(const LocalizationConfig& config, const SlamConfig& slam, std::string* why);
+
+  bool initialized() const { return !particles_.empty(); }
+  const std::vector<LocalizationParticle>& particles() const { return particles_; }
+  // Mean and covariance of the heaviest cluster (particles in adjacent KLD bins) at the last
+  // update, moved by the odometry since.
+  PoseEstimate estimate() const;
+  // map -> odom for the latest scan (REP-105): estimate ⊕ odometry⁻¹.
+  Pose2 mapToOdom() const;
+  // The estimate's path: one pose per scan given to processScan.
+  const std::vector<StampedPose>& trajectory() const { return trajectory_; }
+  const AnomalyGrid& anomaly() const { return anomaly_; }
+  const LocalizerStats& stats() const { return stats_; }
+  const LocalizationConfig& config() const { return config_; }
+  const SlamConfig& slamConfig() const { return slam_; }
+
+ private:
+  struct Models;
+  const Models& modelsFor(const LaserScan& scan);
+  // Draws particles one by one from `draw` until KLD-sampling has enough (at most `max`).
+  template <typename Draw>
+  void drawKld(size_t max, Draw&& draw);
+  void resample(LocalizationUpdate* update);
+  void computeEstimate();
+  void buildFreeCells();
+  Pose2 randomFreePose(Rng* rng) const;
+  // The pose's cell is observed, not believed occupied (BetP(o) < 1/2) and NS < kFreeSpaceNS.
+  bool onMappedFloor(const Pose2& pose) const;
+  // Forgets the odometry and the recovery's averages: the next scan is weighed where the
+  // particles are.
+  void restartFilter();
+
+  LocalizationConfig config_;
+  SlamConfig slam_;
+  EvidentialGridMap map_;
+  std::vector<CellIndex> free_cells_;  // built for the first global localization or recovery
+  bool free_cells_built_ = false;
+  std::vector<LocalizationParticle> particles_;
+  std::vector<std::unique_ptr<Models>> models_;
+  std::unique_ptr<WorkerPool> pool_;
+  struct Workspace;
+  std::vector<std::unique_ptr<Workspace>> workspaces_;
+  bool have_odometry_ = false;  // an update happened since the last reset
+  bool force_update_ = false;
+  Pose2 last_update_odometry_;
+  Pose2 last_odometry_;
+  PoseEstimate estimate_;        // at the last update (or reset)
+  double estimate_weight_ = 0.0;  // the weight of the cluster it is the mean of
+  int updates_since_resample_ = 0;
+  uint64_t step_ = 0;  // random streams: one per update and particle
+  uint64_t draws_ = 0;
+  double w_slow_ = 0.0, w_fast_ = 0.0;
+  AnomalyGrid anomaly_;
+  std::vector<StampedPose> trajectory_;
+  LocalizerStats stats_;
+};
+
+}  // namespace evidential_slam

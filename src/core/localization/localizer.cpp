@@ -1,0 +1,524 @@
+#include "evidential_slam/core/localization/localizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+
+#include "evidential_slam/core/localization/kld_sampling.h"
+#include "evidential_slam/core/measures.h"
+#include "evidential_slam/core/motion_model.h"
+#include "evidential_slam/core/particle_filter.h"
+#include "evidential_slam/core/scan_matcher.h"
+#include "evidential_slam/core/sensor_model.h"
+#include "evidential_slam/core/worker_pool.h"
+
+namespace evidential_slam {
+namespace {
+
+bool refuse(std::string* why, const std::string& what) {
+  if (why != nullptr) *why = what;
+  return false;
+}
+
+bool finite(const Pose2& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta);
+}
+
+// Random streams of the localizer (Rng::forStream's first index), apart from the updates' (the
+// update count).
+constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
+// The cloud has converged when its heaviest cluster holds this much of the weight and its
+// position spread (1 σ) is within the matcher's search radius: the scan is then matched once,
+// from that cluster's prediction, instead of from every particle.
+constexpr double kConvergedWeight = 0.9;
+// A match whose log plausibility per weighed beam is above this explains the scan: the wide-basin
+// search is skipped (the SLAM's threshold, particle_filter.cpp).
+constexpr double kExplainedLogPlausibilityPerBeam = -0.3;
+
+}  // namespace
+
+bool LocalizationConfig::isValid(std::string* why) const {
+  const auto in = [&](const char* name, double v, double lo, double hi) {
+    if (std::isfinite(v) && v >= lo && v <= hi) return true;
+    return refuse(why, std::string(name) + " must be in [" + std::to_string(lo) + ", " +
+                           std::to_string(hi) + "], got " + std::to_string(v));
+  };
+  if (!in("min_particles", min_particles, 1, 1e6) || !in("max_particles", max_particles, 1, 1e6) ||
+      !in("kld_err", kld_err, 1e-4, 1.0) || !in("kld_z", kld_z, 0.0, 10.0) ||
+      !in("kld_bin_xy", kld_bin_xy, 0.01, 10.0) ||
+      !in("kld_bin_angle", kld_bin_angle, 1e-3, M_PI) ||
+      !in("update_min_d", update_min_d, 0.0, 100.0) ||
+      !in("update_min_a", update_min_a, 0.0, M_PI) ||
+      !in("resample_interval", resample_interval, 1, 1000) ||
+      !in("laser_max_beams", laser_max_beams, 1, 1e5) ||
+      !in("recovery_alpha_slow", recovery_alpha_slow, 0.0, 1.0) ||
+      !in("recovery_alpha_fast", recovery_alpha_fast, 0.0, 1.0) ||
+      !in("initial_cov_xx", initial_cov_xx, 0.0, 1e4) ||
+      !in("initial_cov_yy", initial_cov_yy, 0.0, 1e4) ||
+      !in("initial_cov_aa", initial_cov_aa, 0.0, 40.0)) {
+    return false;
+  }
+  if (min_particles > max_particles) {
+    return refuse(why, "min_particles must not be above max_particles");
+  }
+  return true;
+}
+
+// The models for one declared range noise (as the SLAM's, without its long-step settings).
+struct Localizer::Models {
+  Models(const SlamConfig& slam, float range_sigma, double resolution)
+      : sigma(range_sigma),
+        sensor(slam.sensor.forSensorNoise(range_sigma, resolution)),
+        beam(sensor, resolution),
+        matcher(slam.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
+                                            resolution),
+                sensor, resolution) {}
+  float sigma;
+  SensorModelConfig sensor;
+  BeamModel beam;
+  ScanMatcher matcher;
+};
+
+struct Localizer::Workspace {
+  TracedScan traced;
+  ScanAccumulator accumulator;
+};
+
+Localizer::Localizer(const LocalizationConfig& config, const SlamConfig& slam)
+    : config_(config), slam_(slam) {
+  std::string why;
+  if (!config_.isValid(&why) || !slam_.isValid(&why)) {
+    throw std::invalid_argument("invalid localization configuration: " + why);
+  }
+  pool_ = std::make_unique<WorkerPool>(slam_.threads);
+  for (int i = 0; i < pool_->size(); ++i) workspaces_.push_back(std::make_unique<Workspace>());
+}
+
+Localizer::~Localizer() = default;
+
+bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
+  if (map.observedBox().empty()) return refuse(why, "the map has no observed cell");
+  map_ = map;
+  models_.clear();
+  free_cells_.clear();
+  free_cells_built_ = false;
+  particles_.clear();
+  anomaly_.clear();
+  trajectory_.clear();
+  stats_ = LocalizerStats{};
+  restartFilter();
+  return true;
+}
+
+void Localizer::restartFilter() {
+  have_odometry_ = false;
+  force_update_ = true;
+  updates_since_resample_ = 0;
+  w_slow_ = w_fast_ = 0.0;
+}
+
+bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& slam,
+                            std::string* why) {
+  SlamConfig next = slam;
+  next.seed = slam_.seed;
+  next.threads = slam_.threads;
+  if (!config.isValid(why) || !next.isValid(why)) return false;
+  config_ = config;
+  slam_ = next;
+  models_.clear();
+  return true;
+}
+
+const Localizer::Models& Localizer::modelsFor(const LaserScan& scan) {
+  const float sigma =
+      std::isfinite(scan.range_sigma) && scan.range_sigma > 0.0f ? scan.range_sigma : 0.0f;
+  for (const auto& m : models_) {
+    if (m->sigma == sigma) return *m;
+  }
+  models_.push_back(std::make_unique<Models>(slam_, sigma, map_.resolution()));
+  return *models_.back();
+}
+
+template <typename Draw>
+void Localizer::drawKld(size_t max, Draw&& draw) {
+  const size_t min = std::min(max, static_cast<size_t>(config_.min_particles));
+  KldBins bins(config_.kld_bin_xy, config_.kld_bin_angle);
+  size_t limit = min;
+  std::vector<LocalizationParticle> next;
+  while (next.size() < std::max(limit, size_t{1})) {
+    const Pose2 pose = draw();
+    next.push_back(LocalizationParticle{pose, 0.0});
+    if (bins.insert(pose)) {
+      limit = std::min(max, kldSampleLimit(bins.count(), config_.kld_err, config_.kld_z, min, max));
+    }
+  }
+  const double w = 1.0 / static_cast<double>(next.size());
+  for (LocalizationParticle& p : next) p.weight = w;
+  particles_ = std::move(next);
+}
+
+bool Localizer::resetAt(const Pose2& pose, std::string* why) {
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  cov.diagonal() << config_.initial_cov_xx, config_.initial_cov_yy, config_.initial_cov_aa;
+  return resetAt(pose, cov, why);
+}
+
+bool Localizer::resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, std::string* why) {
+  if (map_.observedBox().empty()) return refuse(why, "no map to localize on");
+  if (!finite(pose) || !covariance.allFinite()) return refuse(why, "the pose is not finite");
+  if (!covariance.isApprox(covariance.transpose(), 1e-9)) {
+    return refuse(why, "the covariance is not symmetric");
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
+  const Eigen::Vector3d values = eig.eigenvalues();
+  if (values.minCoeff() < -1e-9 * std::max(1.0, values.maxCoeff())) {
+    return refuse(why, "the covariance is not positive semi-definite");
+  }
+  const Eigen::Matrix3d root =
+      eig.eigenvectors() * values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  restartFilter();
+  Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
+  drawKld(static_cast<size_t>(config_.max_particles), [&] {
+    const Eigen::Vector3d d = root * Eigen::Vector3d(rng.gaussian(), rng.gaussian(),
+                                                     rng.gaussian());
+    return Pose2(pose.x + d.x(), pose.y + d.y(), pose.theta + d.z());
+  });
+  computeEstimate();
+  return true;
+}
+
+void Localizer::buildFreeCells() {
+  if (free_cells_built_) return;
+  map_.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
+    for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
+      const Cell& c = tile.cells[static_cast<size_t>(k)];
+      if (!c.observed() || pignistic(c) >= kFreeSpaceBetP || nonSpecificity(c) >= kFreeSpaceNS) {
+        continue;
+      }
+      free_cells_.push_back(
+          CellIndex{(tx << EvidentialGridMap::kTileBits) + (k & (EvidentialGridMap::kTileSize - 1)),
+                    (ty << EvidentialGridMap::kTileBits) + (k >> EvidentialGridMap::kTileBits)});
+    }
+  });
+  free_cells_built_ = true;
+}
+
+bool Localizer::globalLocalization(std::string* why) {
+  if (map_.observedBox().empty()) return refuse(why, "no map to localize on");
+  buildFreeCells();
+  if (free_cells_.empty()) return refuse(why, "the map has no free space to spread particles on");
+  restartFilter();
+  Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
+  const size_t n = static_cast<size_t>(config_.max_particles);
+  particles_.assign(n, LocalizationParticle{Pose2(), 1.0 / static_cast<double>(n)});
+  for (LocalizationParticle& p : particles_) p.pose = randomFreePose(&rng);
+  computeEstimate();
+  return true;
+}
+
+bool Localizer::onMappedFloor(const Pose2& pose) const {
+  const Cell& c = map_.cell(map_.worldToCell(pose.x, pose.y));
+  return c.observed() && pignistic(c) < 0.5 && nonSpecificity(c) < kFreeSpaceNS;
+}
+
+Pose2 Localizer::randomFreePose(Rng* rng) const {
+  const size_t i = std::min(free_cells_.size() - 1,
+                            static_cast<size_t>(rng->uniform() * free_cells_.size()));
+  const double res = map_.resolution();
+  return Pose2((free_cells_[i].x + rng->uniform()) * res, (free_cells_[i].y + rng->uniform()) * res,
+               (2.0 * rng->uniform() - 1.0) * M_PI);
+}
+
+LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan& scan) {
+  LocalizationUpdate out;
+  ++stats_.scans_received;
+  out.particles = particles_.size();
+  std::string why;
+  if (!scan.isConsistent(&why) || !finite(odometry)) {
+    ++stats_.scans_rejected;
+    out.rejected = true;
+    out.why = why.empty() ? "the odometry pose is not finite" : why;
+    return out;
+  }
+  if (particles_.empty()) {
+    ++stats_.scans_rejected;
+    out.rejected = true;
+    out.why = "no particles: give an initial pose or start a global localization";
+    return out;
+  }
+  if (!have_odometry_) {
+    last_update_odometry_ = odometry;
+    have_odometry_ = true;
+  }
+  last_odometry_ = odometry;
+  const Pose2 increment = last_update_odometry_.between(odometry);
+  const bool moved = std::hypot(increment.x, increment.y) >= config_.update_min_d ||
+                     std::abs(increment.theta) >= config_.update_min_a;
+  if (!moved && !force_update_) {
+    trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean.compose(increment)});
+    return out;
+  }
+  force_update_ = false;
+  last_update_odometry_ = odometry;
+  const uint64_t step = ++step_;
+
+  const Models& models = modelsFor(scan);
+  // The weighed beams: at most laser_max_beams of the hits, evenly spread; their log plausibility
+  // is scaled up to every hit beam's before the temperature (which is calibrated on whole scans).
+  const LaserScan all_hits = ParticleFilter::hitBeamSubset(scan, models.sensor, 1);
+  const size_t hits = all_hits.ranges.size();
+  const int stride = std::max<int>(
+      1, static_cast<int>(std::ceil(static_cast<double>(hits) / config_.laser_max_beams)));
+  const LaserScan weighed = ParticleFilter::hitBeamSubset(scan, models.sensor, stride);
+  const double used = static_cast<double>(weighed.ranges.size());
+  const double exponent =
+      used > 0.0 ? static_cast<double>(hits) / used / slam_.likelihood_temperature : 0.0;
+  const bool match = slam_.matcher.enabled;
+  const std::vector<MatchPoint> endpoints =
+      match ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
+
+  // Converged: one match from the estimate's prediction moves every sample (the SLAM's proposal
+  // for one hypothesis); otherwise each sample is refined on its own.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> spread(
+      estimate_.covariance.topLeftCorner<2, 2>());
+  const bool converged =
+      estimate_weight_ >= kConvergedWeight &&
+      std::sqrt(std::max(0.0, spread.eigenvalues().maxCoeff())) <= slam_.matcher.search_radius;
+  Pose2 correction;
+  const bool correct = !endpoints.empty() && converged;
+  if (correct) {
+    const Pose2 predicted = estimate_.mean.compose(increment);
+    Pose2 chosen = models.matcher.refine(map_, predicted, endpoints);
+    if (slam_.matcher.heading_window > 0.0 && used > 0.0) {
+      const auto plausibility = [&](const Pose2& pose) {
+        return models.beam.logPlausibility(map_, pose.compose(weighed.sensor_pose), weighed, 1);
+      };
+      const double nominal = plausibility(chosen);
+      if (nominal / used <= kExplainedLogPlausibilityPerBeam) {
+        double score = 0.0;
+        const Pose2 wide = models.matcher.refine(
+            map_,
+            models.matcher.search(map_, predicted, endpoints, slam_.matcher.heading_window, &score),
+            endpoints);
+        if (plausibility(wide) > nominal) chosen = wide;
+        ++stats_.wide_matches;
+      }
+    }
+    correction = predicted.between(chosen);
+  }
+  const size_t n = particles_.size();
+  std::vector<double> log_pl(n, 0.0);
+  std::vector<char> on_map(n, 0);
+  pool_->run(n, [&](size_t k, int) {
+    Rng rng = Rng::forStream(slam_.seed, step, k);
+    const Pose2 predicted = particles_[k].pose.compose(increment);
+    Pose2 pose = moved ? sampleMotion(particles_[k].pose, increment, slam_.motion, &rng)
+                       : particles_[k].pose;
+    if (correct) {
+      // The sample's deviation from its prediction, applied to the matched prediction.
+      pose = predicted.compose(correction).compose(predicted.between(pose));
+    } else if (!endpoints.empty()) {
+      pose = models.matcher.refine(map_, pose, endpoints);
+    }
+    particles_[k].pose = pose;
+    on_map[k] = onMappedFloor(pose) ? 1 : 0;
+    if (used > 0.0) {
+      log_pl[k] = models.beam.logPlausibility(map_, pose.compose(weighed.sensor_pose), weighed, 1);
+    }
+  });
+
+  // Weights, and the running averages of the plausibility per beam for the recovery. A scan
+  // contradicts nothing in unexplored space, so a particle off the map's floor would weigh the
+  // most: such particles get no weight (unless no particle is on the floor).
+  bool any_on_map = false;
+  for (size_t k = 0; k < n; ++k) any_on_map = any_on_map || on_map[k] != 0;
+  const auto counts = [&](size_t k) { return !any_on_map || on_map[k] != 0; };
+  double max_log = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < n; ++k) {
+    if (!counts(k)) continue;
+    max_log = std::max(max_log, std::log(particles_[k].weight) + exponent * log_pl[k]);
+  }
+  double sum = 0.0, w_avg = 0.0, mean_pl = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    const double per_beam = used > 0.0 ? log_pl[k] / used : 0.0;
+    w_avg += particles_[k].weight * std::exp(per_beam);
+    mean_pl += particles_[k].weight * per_beam;
+    particles_[k].weight =
+        counts(k) ? std::exp(std::log(particles_[k].weight) + exponent * log_pl[k] - max_log)
+                  : 0.0;
+    sum += particles_[k].weight;
+  }
+  if (!(sum > 0.0) || !std::isfinite(sum)) {  // every weighed particle had lost its weight
+    for (LocalizationParticle& p : particles_) p.weight = 1.0;
+    sum = static_cast<double>(n);
+  }
+  for (LocalizationParticle& p : particles_) p.weight /= sum;
+  out.mean_log_plausibility = mean_pl;
+  if (used > 0.0) {
+    w_slow_ = w_slow_ == 0.0 ? w_avg : w_slow_ + config_.recovery_alpha_slow * (w_avg - w_slow_);
+    w_fast_ = w_fast_ == 0.0 ? w_avg : w_fast_ + config_.recovery_alpha_fast * (w_avg - w_fast_);
+  }
+
+  ++stats_.scans_processed;
+  stats_.particle_updates += n;
+  out.processed = true;
+  if (++updates_since_resample_ >= config_.resample_interval) {
+    updates_since_resample_ = 0;
+    resample(&out);
+  }
+  computeEstimate();
+  out.particles = particles_.size();
+  stats_.max_particles_used = std::max(stats_.max_particles_used, out.particles);
+  stats_.min_particles_used = stats_.min_particles_used == 0
+                                  ? out.particles
+                                  : std::min(stats_.min_particles_used, out.particles);
+
+  // What this scan contradicts in the map, at the estimate.
+  Workspace& ws = *workspaces_.front();
+  models.beam.traceScan(estimate_.mean.compose(scan.sensor_pose), scan, &ws.traced);
+  models.beam.accumulateScan(ws.traced, &ws.accumulator);
+  std::vector<AnomalyCell> cells;
+  scanAnomaly(ws.accumulator, map_, models.beam.openSpaceRadius(), &cells);
+  for (const AnomalyCell& c : cells) out.anomaly_added_bits += c.bits;
+  anomaly_.add(cells);
+
+  trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean});
+  return out;
+}
+
+void Localizer::resample(LocalizationUpdate* update) {
+  // Augmented MCL: random poses while the fast average of the plausibility is below the slow one.
+  double random_fraction = 0.0;
+  if (config_.recovery_alpha_slow > 0.0 && config_.recovery_alpha_fast > 0.0 && w_slow_ > 0.0) {
+    random_fraction = std::max(0.0, 1.0 - w_fast_ / w_slow_);
+  }
+  if (random_fraction > 0.0) {
+    buildFreeCells();
+    if (free_cells_.empty()) random_fraction = 0.0;
+  }
+  std::vector<double> cumulative(particles_.size());
+  double total = 0.0;
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    total += particles_[i].weight;
+    cumulative[i] = total;
+  }
+  Rng rng = Rng::forStream(slam_.seed, kDrawStream + 1, step_);
+  const std::vector<LocalizationParticle> previous = std::move(particles_);
+  size_t random = 0;
+  drawKld(static_cast<size_t>(config_.max_particles), [&] {
+    if (random_fraction > 0.0 && rng.uniform() < random_fraction) {
+      ++random;
+      return randomFreePose(&rng);
+    }
+    const double u = rng.uniform() * total;
+    const size_t i = static_cast<size_t>(
+        std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+    return previous[std::min(i, previous.size() - 1)].pose;
+  });
+  if (random_fraction > 0.0) w_slow_ = w_fast_ = 0.0;  // as amcl: do not spiral into randomness
+  ++stats_.resamplings;
+  update->resampled = true;
+  update->random_particles = random;
+}
+
+void Localizer::computeEstimate() {
+  // Clusters: particles in bins that touch (x, y and heading, the heading index wrapping round).
+  KldBins bins(config_.kld_bin_xy, config_.kld_bin_angle);
+  const int angle_bins = static_cast<int>(std::ceil(2.0 * M_PI / config_.kld_bin_angle));
+  struct Bin {
+    int64_t ix, iy, ia;
+    double weight = 0.0;
+    int cluster = -1;
+  };
+  std::unordered_map<uint64_t, size_t> index;
+  std::vector<Bin> cells;
+  std::vector<size_t> bin_of(particles_.size());
+  const auto indices = [&](const Pose2& p, int64_t* ix, int64_t* iy, int64_t* ia) {
+    *ix = static_cast<int64_t>(std::floor(p.x / config_.kld_bin_xy));
+    *iy = static_cast<int64_t>(std::floor(p.y / config_.kld_bin_xy));
+    *ia = static_cast<int64_t>(
+        std::floor((normalizeAngle(p.theta) + M_PI) / config_.kld_bin_angle));
+  };
+  const auto keyOf = [&](int64_t ix, int64_t iy, int64_t ia) {
+    ia = ((ia % angle_bins) + angle_bins) % angle_bins;
+    return (static_cast<uint64_t>(ix & 0x1FFFFF) << 42) |
+           (static_cast<uint64_t>(iy & 0x1FFFFF) << 21) | static_cast<uint64_t>(ia);
+  };
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    int64_t ix, iy, ia;
+    indices(particles_[i].pose, &ix, &iy, &ia);
+    const uint64_t key = keyOf(ix, iy, ia);
+    auto it = index.find(key);
+    if (it == index.end()) {
+      it = index.emplace(key, cells.size()).first;
+      cells.push_back(Bin{ix, iy, ((ia % angle_bins) + angle_bins) % angle_bins});
+    }
+    cells[it->second].weight += particles_[i].weight;
+    bin_of[i] = it->second;
+  }
+  std::vector<double> cluster_weight;
+  std::vector<size_t> stack;
+  for (size_t b = 0; b < cells.size(); ++b) {
+    if (cells[b].cluster >= 0) continue;
+    const int id = static_cast<int>(cluster_weight.size());
+    cluster_weight.push_back(0.0);
+    cells[b].cluster = id;
+    stack.push_back(b);
+    while (!stack.empty()) {
+      const Bin bin = cells[stack.back()];
+      stack.pop_back();
+      cluster_weight[static_cast<size_t>(id)] += bin.weight;
+      for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int da = -1; da <= 1; ++da) {
+            const auto it = index.find(keyOf(bin.ix + dx, bin.iy + dy, bin.ia + da));
+            if (it == index.end() || cells[it->second].cluster >= 0) continue;
+            cells[it->second].cluster = id;
+            stack.push_back(it->second);
+          }
+        }
+      }
+    }
+  }
+  const int best = static_cast<int>(
+      std::max_element(cluster_weight.begin(), cluster_weight.end()) - cluster_weight.begin());
+  double w = 0.0, x = 0.0, y = 0.0, s = 0.0, c = 0.0;
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    if (cells[bin_of[i]].cluster != best) continue;
+    const LocalizationParticle& p = particles_[i];
+    w += p.weight;
+    x += p.weight * p.pose.x;
+    y += p.weight * p.pose.y;
+    s += p.weight * std::sin(p.pose.theta);
+    c += p.weight * std::cos(p.pose.theta);
+  }
+  PoseEstimate e;
+  estimate_weight_ = w;
+  if (w <= 0.0) {
+    estimate_ = e;
+    return;
+  }
+  e.mean = Pose2(x / w, y / w, std::atan2(s, c));
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    if (cells[bin_of[i]].cluster != best) continue;
+    const LocalizationParticle& p = particles_[i];
+    const Eigen::Vector3d d(p.pose.x - e.mean.x, p.pose.y - e.mean.y,
+                            normalizeAngle(p.pose.theta - e.mean.theta));
+    e.covariance += (p.weight / w) * d * d.transpose();
+  }
+  estimate_ = e;
+}
+
+PoseEstimate Localizer::estimate() const {
+  PoseEstimate e = estimate_;
+  if (have_odometry_) e.mean = e.mean.compose(last_update_odometry_.between(last_odometry_));
+  return e;
+}
+
+Pose2 Localizer::mapToOdom() const { return estimate().mean.compose(last_odometry_.inverse()); }
+
+}  // namespace evidential_slam

@@ -1,0 +1,217 @@
+// The anomaly layer (anomaly.h): its two rules on hand-built maps and scan masses, the grid that
+// accumulates it, its raster layer, and the SLAM's per-particle anomaly of a room that changed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "evidential_slam/core/anomaly.h"
+#include "evidential_slam/core/layers.h"
+#include "evidential_slam/core/sensor_model.h"
+#include "evidential_slam/core/slam_engine.h"
+#include "test_support.h"
+
+namespace evidential_slam {
+namespace {
+
+constexpr double kRes = 0.05;
+// Stored masses are multiples of 2^-23: bits computed from the nominal values agree to ~1e-5.
+constexpr double kBits = 1e-4;
+
+Cell makeCell(float occupied, float free, float lambda = 0.0f) {
+  return Cell::fromStored(occupied, free, lambda);
+}
+
+// Cells (x, y) for x, y in [-10, 10] hold `c`.
+EvidentialGridMap filledMap(const Cell& c) {
+  EvidentialGridMap map(kRes);
+  for (int y = -10; y <= 10; ++y) {
+    for (int x = -10; x <= 10; ++x) map.mutableCell(x, y) = c;
+  }
+  return map;
+}
+
+ScanMass scanMass(float occupied, float free) {
+  ScanMass m;
+  m.occupied = occupied;
+  m.free = free;
+  return m;
+}
+
+std::vector<AnomalyCell> anomalyOf(const ScanAccumulator& acc, const EvidentialGridMap& map) {
+  std::vector<AnomalyCell> out;
+  scanAnomaly(acc, map, 2, &out);
+  return out;
+}
+
+// A hit on open floor: K = m̃(e) s(o), anomaly -log2(1 - K). Hits whose K is below 1/2, or with a
+// cell the map does not believe free within 2 cells, add none; clearing beams on free floor none.
+TEST(ScanAnomaly, HitInOpenSpace) {
+  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+  map.mutableCell(6, 0) = makeCell(0.7f, 0.2f);  // a wall cell
+  ScanAccumulator acc;
+  acc.reset(CellIndex{0, 0}, 16);
+  acc.add(0, 0, scanMass(0.8f, 0.0f));   // K = 0.792: 2.2655 bits
+  acc.add(-4, 0, scanMass(0.5f, 0.0f));  // K = 0.495 < 1/2
+  acc.add(4, 0, scanMass(0.8f, 0.0f));   // the wall cell is 2 away
+  acc.add(0, 4, scanMass(0.0f, 0.8f));   // a clearing beam agrees with the floor
+  const std::vector<AnomalyCell> cells = anomalyOf(acc, map);
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_EQ(cells[0].x, 0);
+  EXPECT_EQ(cells[0].y, 0);
+  EXPECT_NEAR(cells[0].bits, -std::log2(1.0 - 0.99 * 0.8), kBits);
+  EXPECT_NEAR(cells[0].bits, 2.2655, 1e-3);
+
+  // Three cells from the wall the same hit counts; next to never-observed space it does not.
+  ScanAccumulator far;
+  far.reset(CellIndex{0, 0}, 16);
+  far.add(3, 0, scanMass(0.8f, 0.0f));
+  far.add(9, 9, scanMass(0.8f, 0.0f));  // (11, 11) is unobserved: within 2 cells
+  const std::vector<AnomalyCell> far_cells = anomalyOf(far, map);
+  ASSERT_EQ(far_cells.size(), 1u);
+  EXPECT_EQ(far_cells[0].x, 3);
+}
+
+// A cell the map holds occupied that the scan clears: K = m̃(o) s(e). Not when the scan itself
+// puts a surface (s(o) >= 0.05) within 2 cells of it: a beam grazing a wall it hits next to.
+TEST(ScanAnomaly, PassThroughAnObstacle) {
+  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+  for (int y = -1; y <= 1; ++y) map.mutableCell(0, y) = makeCell(0.9f, 0.05f);
+  map.mutableCell(0, 5) = makeCell(0.6f, 0.3f);  // occupied, but 0.6 * 0.8 < 1/2
+  ScanAccumulator acc;
+  acc.reset(CellIndex{0, 0}, 16);
+  for (int x = -5; x <= 5; ++x) acc.add(x, 0, scanMass(0.0f, 0.8f));  // a beam through the door
+  acc.add(0, 5, scanMass(0.0f, 0.8f));
+  std::vector<AnomalyCell> cells = anomalyOf(acc, map);
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_EQ(cells[0].x, 0);
+  EXPECT_EQ(cells[0].y, 0);
+  EXPECT_NEAR(cells[0].bits, -std::log2(1.0 - 0.9 * 0.8), kBits);
+
+  // A hit two cells away (the wall the beam grazes before hitting it): nothing.
+  acc.add(0, -2, scanMass(0.1f, 0.0f));
+  EXPECT_TRUE(anomalyOf(acc, map).empty());
+  // Three cells away, or a hit below the surface mass: counted again.
+  ScanAccumulator farther;
+  farther.reset(CellIndex{0, 0}, 16);
+  farther.add(0, 0, scanMass(0.0f, 0.8f));
+  farther.add(0, 3, scanMass(0.6f, 0.0f));
+  farther.add(1, 1, scanMass(0.04f, 0.0f));
+  cells = anomalyOf(farther, map);
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_EQ(cells[0].y, 0);
+}
+
+// The anomaly rules read the map before the scan: anomaly is what the update's conflict would be,
+// in bits, on the cells they pass (EC's increment there).
+TEST(ScanAnomaly, EqualsTheExternalConflictTheUpdateAddsThere) {
+  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+  map.mutableCell(-6, 0) = makeCell(0.95f, 0.0f);
+  ScanAccumulator acc;
+  acc.reset(CellIndex{0, 0}, 16);
+  acc.add(0, 0, scanMass(0.62f, 0.0f));
+  acc.add(-6, 0, scanMass(0.0f, 0.8f));
+  const std::vector<AnomalyCell> cells = anomalyOf(acc, map);
+  ASSERT_EQ(cells.size(), 2u);
+  const double ec0 = externalConflict(map.cell(0, 0));
+  const double ec6 = externalConflict(map.cell(-6, 0));
+  acc.applyTo(&map);
+  for (const AnomalyCell& c : cells) {
+    const double before = c.x == 0 ? ec0 : ec6;
+    EXPECT_NEAR(c.bits, externalConflict(map.cell(c.x, c.y)) - before, 2e-3) << c.x;
+  }
+}
+
+TEST(AnomalyGrid, AccumulatesAlongALineage) {
+  auto root = std::make_shared<AnomalyNode>();
+  root->cells = {AnomalyCell{1, 2, 0.5f}, AnomalyCell{-3, 4, 1.0f}};
+  auto child = std::make_shared<AnomalyNode>();
+  child->cells = {AnomalyCell{1, 2, 0.25f}};
+  child->parent = root;
+  auto sibling = std::make_shared<AnomalyNode>();
+  sibling->cells = {AnomalyCell{7, 7, 2.0f}};
+  sibling->parent = root;
+  const AnomalyGrid a = accumulateAnomaly(child.get());
+  EXPECT_FLOAT_EQ(a.at(1, 2), 0.75f);
+  EXPECT_FLOAT_EQ(a.at(-3, 4), 1.0f);
+  EXPECT_FLOAT_EQ(a.at(7, 7), 0.0f);
+  EXPECT_EQ(a.size(), 2u);
+  EXPECT_FLOAT_EQ(static_cast<float>(a.total()), 1.75f);
+  const AnomalyGrid b = accumulateAnomaly(sibling.get());
+  EXPECT_FLOAT_EQ(b.at(7, 7), 2.0f);
+  EXPECT_FLOAT_EQ(b.at(1, 2), 0.5f);
+  EXPECT_TRUE(accumulateAnomaly(nullptr).empty());
+
+  // A long chain is released without recursion.
+  std::shared_ptr<const AnomalyNode> chain;
+  for (int i = 0; i < 200000; ++i) {
+    auto n = std::make_shared<AnomalyNode>();
+    n->parent = chain;
+    chain = n;
+  }
+  chain.reset();
+}
+
+// The tenth layer of a raster is the grid's anomaly at each cell of the box, 0 elsewhere and
+// without a grid; cells outside the box are left out.
+TEST(AnomalyGrid, FillsTheAnomalyLayer) {
+  EvidentialGridMap map(kRes);
+  for (int x = 0; x < 4; ++x) map.mutableCell(x, 0) = makeCell(0.5f, 0.2f);
+  AnomalyGrid anomaly;
+  anomaly.add(2, 0, 3.0f);
+  anomaly.add(100, 100, 1.0f);
+  const LayerRaster r = extractLayers(map, CellBox{0, 0, 3, 1}, &anomaly);
+  const std::vector<float>& v = r.layer(Layer::kAnomaly);
+  ASSERT_EQ(v.size(), 8u);
+  for (size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], i == 2 ? 3.0f : 0.0f) << i;
+  const LayerRaster none = extractLayers(map, CellBox{0, 0, 3, 1});
+  for (float x : none.layer(Layer::kAnomaly)) EXPECT_EQ(x, 0.0f);
+  EXPECT_EQ(layerName(Layer::kAnomaly), "anomaly");
+  EXPECT_EQ(layerValue(makeCell(0.5f, 0.2f, 1.0f), Layer::kAnomaly), 0.0);
+}
+
+// The SLAM takes each scan's anomaly against each particle's map before the scan. The room mapped
+// without its box, then seen with it: the box's face lies in mapped open floor and stands out;
+// scans of the unchanged room add next to nothing on the walls.
+TEST(SlamAnomaly, AnObjectThatAppearsStandsOut) {
+  SlamConfig c = testing_room::withoutRealRobotSettings(SlamConfig());
+  c.particles = 4;
+  c.threads = 1;
+  c.matcher.enabled = false;
+  c.motion = testing_room::noiselessMotion();
+  c.update_min_distance = 0.0;
+  c.update_min_angle = 0.0;
+  SlamEngine engine(c);
+  const std::vector<Pose2> poses = {Pose2(-1.0, -0.5, 0.0), Pose2(-0.8, 0.0, 0.3),
+                                    Pose2(-0.6, 0.4, -0.2), Pose2(-1.0, 0.8, 0.0)};
+  // The map frame is the room's shifted by half a cell: the walls (at whole metres) lie on cell
+  // centres, where a hit puts an occupied mass above 1/2 (on a cell border, 0.48 in two cells).
+  const auto inMap = [](const Pose2& p) { return Pose2(p.x + 0.025, p.y + 0.025, p.theta); };
+  double stamp = 1.0;
+  for (int lap = 0; lap < 3; ++lap) {
+    for (const Pose2& p : poses) {
+      engine.processScan(inMap(p), testing_room::roomScan(p, stamp++, false));
+    }
+  }
+  const double static_total = engine.bestAnomaly().total();
+  for (const Pose2& p : poses) {
+    engine.processScan(inMap(p), testing_room::roomScan(p, stamp++, true));
+  }
+  const AnomalyGrid anomaly = engine.bestAnomaly();
+  double box = 0.0, walls = 0.0;
+  anomaly.forEach([&](int x, int y, float bits) {
+    const Eigen::Vector2d p =
+        engine.bestMap().cellCenter(CellIndex{x, y}) - Eigen::Vector2d(0.025, 0.025);
+    if (std::abs(p.x() - 1.0) < 0.1 && p.y() > 0.4 && p.y() < 1.9) {
+      box += bits;
+    } else {
+      walls += bits;
+    }
+  });
+  EXPECT_GT(box, 20.0);  // about 1.3 bits per cell of a 1.5 m face, per scan that first sees it
+  EXPECT_LT(walls, 0.05 * box);
+  EXPECT_LT(static_total, 0.05 * box);
+}
+
+}  // namespace
+}  // namespace evidential_slam

@@ -1,0 +1,339 @@
+// Localization on a fixed map (core/localization): KLD-sampling's sample counts by hand, and the
+// localizer in a hand-made room with a block against one wall (an asymmetric room): tracking from
+// a spread start, global localization, the particle count shrinking as the cloud converges, the
+// motion gate, resets, the anomaly of a removed block, and the refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "evidential_slam/core/localization/kld_sampling.h"
+#include "evidential_slam/core/localization/localizer.h"
+#include "evidential_slam/core/slam_engine.h"
+#include "../test_support.h"
+
+namespace evidential_slam {
+namespace {
+
+
+// n(k) = ceil((k - 1) / (2 err) (1 - 2/(9(k - 1)) + sqrt(2/(9(k - 1))) z)^3), by hand:
+// k = 2, err = 0.01, z = 0.99: x = 1 - 0.2222222 + 0.4714045 * 0.99 = 1.2444689, 50 x^3 = 96.37.
+// k = 11, z = 3: x = 1 - 0.0222222 + 0.1490712 * 3 = 1.4249914, 500 x^3 = 1446.8.
+TEST(KldSampling, SampleLimitByHand) {
+  EXPECT_EQ(kldSampleLimit(2, 0.01, 0.99, 1, 100000), 97u);
+  EXPECT_EQ(kldSampleLimit(11, 0.01, 3.0, 1, 100000), 1447u);
+  EXPECT_EQ(kldSampleLimit(2, 0.01, 0.99, 100, 5000), 100u);  // the floor
+  EXPECT_EQ(kldSampleLimit(11, 0.01, 3.0, 100, 1000), 1000u);  // the ceiling
+  EXPECT_EQ(kldSampleLimit(1, 0.01, 0.99, 100, 5000), 100u);  // one bin: the floor
+  EXPECT_EQ(kldSampleLimit(0, 0.01, 0.99, 100, 5000), 100u);
+  // More bins, more samples; a larger error allowed, fewer.
+  EXPECT_LT(kldSampleLimit(20, 0.01, 0.99, 1, 100000), kldSampleLimit(40, 0.01, 0.99, 1, 100000));
+  EXPECT_GT(kldSampleLimit(20, 0.01, 0.99, 1, 100000), kldSampleLimit(20, 0.05, 0.99, 1, 100000));
+}
+
+TEST(KldSampling, BinsOfXYAndHeading) {
+  KldBins bins(0.5, 0.1);
+  EXPECT_TRUE(bins.insert(Pose2(0.1, 0.1, 0.01)));
+  EXPECT_FALSE(bins.insert(Pose2(0.4, 0.4, 0.09)));
+  EXPECT_TRUE(bins.insert(Pose2(0.6, 0.1, 0.01)));
+  EXPECT_TRUE(bins.insert(Pose2(-0.1, 0.1, 0.01)));
+  EXPECT_TRUE(bins.insert(Pose2(0.1, 0.1, 0.11)));
+  EXPECT_TRUE(bins.insert(Pose2(0.1, 0.1, -0.01)));
+  EXPECT_EQ(bins.count(), 5u);
+  bins.clear();
+  EXPECT_EQ(bins.count(), 0u);
+}
+
+// The room (walls at x, y = ±2 m) with a solid block against its east wall, seen from every
+// side: 360 beams over a full turn from `pose`. The block makes the room asymmetric.
+constexpr double kBlockX0 = 1.6, kBlockX1 = 2.0, kBlockY0 = 0.3, kBlockY1 = 1.3;
+LaserScan blockRoomScan(const Pose2& pose, double stamp, bool with_block) {
+  LaserScan scan;
+  scan.stamp = stamp;
+  scan.max_range = 30.0f;
+  for (int i = 0; i < 360; ++i) {
+    const double bearing = -M_PI + i * (2 * M_PI / 360);
+    const double a = pose.theta + bearing;
+    const double c = std::cos(a), s = std::sin(a);
+    double t = 1e9;
+    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
+    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
+    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
+    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+    if (with_block) {
+      // Ray and box, slab by slab.
+      double t0 = 0.0, t1 = 1e9;
+      const auto slab = [&](double o, double d, double lo, double hi) {
+        if (std::abs(d) < 1e-12) return o >= lo && o <= hi;
+        double ta = (lo - o) / d, tb = (hi - o) / d;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        return t0 <= t1;
+      };
+      if (slab(pose.x, c, kBlockX0, kBlockX1) && slab(pose.y, s, kBlockY0, kBlockY1)) {
+        t = std::min(t, t0);
+      }
+    }
+    scan.ranges.push_back(static_cast<float>(t));
+    scan.bearings.push_back(static_cast<float>(bearing));
+    scan.valid.push_back(1);
+  }
+  return scan;
+}
+
+// The map frame is the room's shifted by half a cell, so that its walls (at whole metres) lie on
+// cell centres, where a hit puts an occupied mass above 1/2 (on a cell border, 0.48 in each of two
+// cells).
+constexpr double kShift = 0.025;
+Pose2 inMap(const Pose2& room) { return Pose2(room.x + kShift, room.y + kShift, room.theta); }
+
+SlamConfig slamConfig() {
+  SlamConfig c = testing_room::withoutRealRobotSettings(SlamConfig());
+  c.threads = 1;
+  c.seed = 3;
+  return c;
+}
+
+// The room, mapped from exact poses (no matcher, no motion noise).
+EvidentialGridMap roomMap(bool with_block = true) {
+  SlamConfig exact = slamConfig();
+  exact.particles = 1;
+  exact.matcher.enabled = false;
+  exact.motion = testing_room::noiselessMotion();
+  SlamEngine engine(exact);
+  const std::vector<Pose2> poses = {Pose2(0, 0, 0),         Pose2(-0.6, -0.6, 0.0),
+                                    Pose2(-0.6, 0.3, 0.0),  Pose2(1.3, -1.2, 1.5),
+                                    Pose2(-1.3, 1.2, -0.5), Pose2(1.2, 1.6, 3.0)};
+  double stamp = 1.0;
+  for (int lap = 0; lap < 2; ++lap) {
+    for (const Pose2& p : poses) {
+      engine.processScan(inMap(p), blockRoomScan(p, stamp++, with_block));
+    }
+  }
+  return engine.bestMap();
+}
+
+double distance(const Pose2& a, const Pose2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// A route through the room (the true poses, room frame) and the odometry of it, drifting: 2 % too
+// long and turning 0.01 rad too far per step.
+struct Route {
+  std::vector<Pose2> truth, odometry;
+};
+Route route(int steps) {
+  Route r;
+  Pose2 truth(-1.2, -1.2, 0.6), odometry(5.0, 3.0, -1.0);
+  for (int i = 0; i < steps; ++i) {
+    r.truth.push_back(truth);
+    r.odometry.push_back(odometry);
+    const Pose2 step(0.12, 0.0, i % 12 < 6 ? 0.25 : -0.2);
+    const Pose2 next = truth.compose(step);
+    if (std::abs(next.x) > 1.5 || std::abs(next.y) > 1.5) {
+      truth = truth.compose(Pose2(0.0, 0.0, 1.2));
+      odometry = odometry.compose(Pose2(0.0, 0.0, 1.21));
+    } else {
+      truth = next;
+      odometry = odometry.compose(Pose2(0.1224, 0.0, step.theta + 0.01));
+    }
+  }
+  return r;
+}
+
+LocalizationConfig localizationConfig() {
+  LocalizationConfig c;
+  c.min_particles = 50;
+  c.max_particles = 3000;
+  c.update_min_d = 0.1;
+  c.update_min_a = 0.2;
+  c.resample_interval = 1;
+  return c;
+}
+
+// Started 0.4 m and 0.3 rad off with a covariance that covers that, the estimate settles on the
+// truth; KLD-sampling drew hundreds of particles for the spread start and keeps min_particles
+// once the cloud has converged.
+TEST(Localizer, ConvergesFromASpreadStartAndShrinksTheCloud) {
+  Localizer loc(localizationConfig(), slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  const Route r = route(60);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  cov.diagonal() << 0.25, 0.25, 0.1;
+  const Pose2 start = inMap(r.truth[0]).compose(Pose2(0.3, -0.25, 0.3));
+  ASSERT_TRUE(loc.resetAt(start, cov, nullptr));
+  const size_t initial = loc.particles().size();
+  EXPECT_GT(initial, 300u);
+  size_t processed = 0;
+  for (size_t i = 0; i < r.truth.size(); ++i) {
+    const LocalizationUpdate u =
+        loc.processScan(r.odometry[i], blockRoomScan(r.truth[i], 1.0 + 0.1 * i, true));
+    ASSERT_FALSE(u.rejected) << u.why;
+    processed += u.processed ? 1 : 0;
+    if (i >= 10) {
+      EXPECT_LT(distance(loc.estimate().mean, inMap(r.truth[i])), 0.05) << i;
+      EXPECT_LT(std::abs(normalizeAngle(loc.estimate().mean.theta - r.truth[i].theta)), 0.03) << i;
+    }
+  }
+  EXPECT_GT(processed, 30u);
+  // A converged cloud straddles at most one bin border in x, y and heading: at most 8 bins.
+  const size_t converged = kldSampleLimit(8, 0.01, 0.99, 50, 3000);
+  EXPECT_LE(loc.particles().size(), converged);
+  EXPECT_LT(4 * loc.particles().size(), initial);
+  EXPECT_LT(loc.estimate().covariance(0, 0), 0.01);
+  // The map -> odom correction maps the odometry onto the estimate.
+  const Pose2 on_map = loc.mapToOdom().compose(r.odometry.back());
+  EXPECT_LT(distance(on_map, loc.estimate().mean), 1e-9);
+  EXPECT_EQ(loc.trajectory().size(), r.truth.size());
+}
+
+// Global localization in the asymmetric room: max_particles over its free space, the estimate on
+// the truth within a few updates, and the cloud shrinks as KLD-sampling asks.
+TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
+  LocalizationConfig c = localizationConfig();
+  c.max_particles = 2000;
+  Localizer loc(c, slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  ASSERT_TRUE(loc.globalLocalization(nullptr));
+  EXPECT_EQ(loc.particles().size(), 2000u);
+  double x_min = 1e9, x_max = -1e9;
+  for (const LocalizationParticle& p : loc.particles()) {
+    x_min = std::min(x_min, p.pose.x);
+    x_max = std::max(x_max, p.pose.x);
+    EXPECT_LT(std::abs(p.pose.x - kShift), 2.0);  // inside the room
+    EXPECT_LT(std::abs(p.pose.y - kShift), 2.0);
+  }
+  EXPECT_LT(x_min, -1.5);
+  EXPECT_GT(x_max, 1.5);
+  const Route r = route(40);
+  for (size_t i = 0; i < r.truth.size(); ++i) {
+    loc.processScan(r.odometry[i], blockRoomScan(r.truth[i], 1.0 + 0.1 * i, true));
+    if (i >= 15) {
+      EXPECT_LT(distance(loc.estimate().mean, inMap(r.truth[i])), 0.05) << i;
+    }
+  }
+  EXPECT_LE(loc.particles().size(), kldSampleLimit(8, 0.01, 0.99, 50, 2000));
+  // From the first resampling on, the scans have singled the pose out: far fewer particles.
+  EXPECT_LT(loc.stats().max_particles_used, 600u);
+}
+
+// Scans within update_min_d and update_min_a of the last update only move the estimate by the
+// odometry; the first scan after a reset is always weighed.
+TEST(Localizer, MotionGate) {
+  Localizer loc(localizationConfig(), slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  ASSERT_TRUE(loc.resetAt(inMap(Pose2(0, 0, 0)), Eigen::Matrix3d::Identity() * 1e-4, nullptr));
+  EXPECT_TRUE(loc.processScan(Pose2(0, 0, 0), blockRoomScan(Pose2(0, 0, 0), 1.0, true)).processed);
+  const LocalizationUpdate small =
+      loc.processScan(Pose2(0.05, 0, 0.1), blockRoomScan(Pose2(0.05, 0, 0.1), 1.1, true));
+  EXPECT_FALSE(small.processed);
+  EXPECT_FALSE(small.rejected);
+  EXPECT_LT(distance(loc.estimate().mean, inMap(Pose2(0.05, 0, 0))), 0.03);
+  EXPECT_TRUE(
+      loc.processScan(Pose2(0.11, 0, 0), blockRoomScan(Pose2(0.11, 0, 0), 1.2, true)).processed);
+  EXPECT_TRUE(loc.processScan(Pose2(0.11, 0, 0.21), blockRoomScan(Pose2(0.11, 0, 0.21), 1.3, true))
+                  .processed);
+  EXPECT_EQ(loc.stats().scans_processed, 3u);
+  EXPECT_EQ(loc.stats().scans_received, 4u);
+}
+
+// resetAt moves the cloud (the kidnapped robot told where it is) and the next scan is weighed
+// there; the configured initial covariance is used when none is given.
+TEST(Localizer, ResetMovesTheCloud) {
+  LocalizationConfig c = localizationConfig();
+  c.initial_cov_xx = c.initial_cov_yy = 0.01;
+  c.initial_cov_aa = 0.01;
+  Localizer loc(c, slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  ASSERT_TRUE(loc.resetAt(inMap(Pose2(-1.0, -1.0, 0.0)), nullptr));
+  double sx = 0.0;
+  for (const LocalizationParticle& p : loc.particles()) {
+    const double dx = p.pose.x - inMap(Pose2(-1.0, -1.0, 0.0)).x;
+    sx += dx * dx;
+  }
+  EXPECT_NEAR(std::sqrt(sx / loc.particles().size()), 0.1, 0.03);
+  loc.processScan(Pose2(3, 3, 0), blockRoomScan(Pose2(-1.0, -1.0, 0.0), 1.0, true));
+  EXPECT_LT(distance(loc.estimate().mean, inMap(Pose2(-1.0, -1.0, 0.0))), 0.05);
+  ASSERT_TRUE(loc.resetAt(inMap(Pose2(0.8, -1.0, 1.0)), nullptr));
+  const LocalizationUpdate u =
+      loc.processScan(Pose2(3.5, 3, 0), blockRoomScan(Pose2(0.8, -1.0, 1.0), 2.0, true));
+  EXPECT_TRUE(u.processed);
+  EXPECT_LT(distance(loc.estimate().mean, inMap(Pose2(0.8, -1.0, 1.0))), 0.05);
+}
+
+// On the map made with the block, scans of the room without it pass through the block's cells: the
+// anomaly marks the block and hardly anything else, while the pose stays right.
+TEST(Localizer, AnomalyMarksARemovedObstacle) {
+  Localizer loc(localizationConfig(), slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(true), nullptr));
+  const Route r = route(40);
+  ASSERT_TRUE(loc.resetAt(inMap(r.truth[0]), Eigen::Matrix3d::Identity() * 1e-3, nullptr));
+  for (size_t i = 0; i < r.truth.size(); ++i) {
+    loc.processScan(r.odometry[i], blockRoomScan(r.truth[i], 1.0 + 0.1 * i, false));
+    EXPECT_LT(distance(loc.estimate().mean, inMap(r.truth[i])), 0.05) << i;
+  }
+  double block = 0.0, elsewhere = 0.0;
+  loc.anomaly().forEach([&](int x, int y, float bits) {
+    const Eigen::Vector2d p = loc.map().cellCenter(CellIndex{x, y});
+    const Eigen::Vector2d q = p - Eigen::Vector2d(kShift, kShift);  // room frame
+    const bool in_block = q.x() > kBlockX0 - 0.1 && q.x() < kBlockX1 - 0.05 &&
+                          q.y() > kBlockY0 - 0.1 && q.y() < kBlockY1 + 0.1;
+    (in_block ? block : elsewhere) += bits;
+  });
+  EXPECT_GT(block, 50.0);
+  EXPECT_LT(elsewhere, 0.05 * block);
+  // Localizing in the room as it was mapped adds next to none.
+  Localizer same(localizationConfig(), slamConfig());
+  ASSERT_TRUE(same.setMap(roomMap(true), nullptr));
+  ASSERT_TRUE(same.resetAt(inMap(r.truth[0]), Eigen::Matrix3d::Identity() * 1e-3, nullptr));
+  for (size_t i = 0; i < r.truth.size(); ++i) {
+    same.processScan(r.odometry[i], blockRoomScan(r.truth[i], 1.0 + 0.1 * i, true));
+  }
+  EXPECT_LT(same.anomaly().total(), 0.05 * block);
+}
+
+TEST(Localizer, RefusesBadInput) {
+  Localizer loc(localizationConfig(), slamConfig());
+  std::string why;
+  EXPECT_FALSE(loc.resetAt(Pose2(0, 0, 0), &why));
+  EXPECT_EQ(why, "no map to localize on");
+  EXPECT_FALSE(loc.globalLocalization(&why));
+  EXPECT_FALSE(loc.setMap(EvidentialGridMap(0.05), &why));
+  EXPECT_EQ(why, "the map has no observed cell");
+  ASSERT_TRUE(loc.setMap(roomMap(), &why));
+  const LocalizationUpdate none =
+      loc.processScan(Pose2(0, 0, 0), blockRoomScan(Pose2(0, 0, 0), 1.0, true));
+  EXPECT_TRUE(none.rejected);
+  EXPECT_EQ(none.why, "no particles: give an initial pose or start a global localization");
+  EXPECT_FALSE(loc.resetAt(Pose2(NAN, 0, 0), &why));
+  EXPECT_EQ(why, "the pose is not finite");
+  Eigen::Matrix3d bad = Eigen::Matrix3d::Identity();
+  bad(0, 0) = -1.0;
+  EXPECT_FALSE(loc.resetAt(Pose2(0, 0, 0), bad, &why));
+  EXPECT_EQ(why, "the covariance is not positive semi-definite");
+  bad = Eigen::Matrix3d::Identity();
+  bad(0, 1) = 0.5;
+  EXPECT_FALSE(loc.resetAt(Pose2(0, 0, 0), bad, &why));
+  EXPECT_EQ(why, "the covariance is not symmetric");
+  ASSERT_TRUE(loc.resetAt(Pose2(0, 0, 0), &why));
+  LaserScan broken = blockRoomScan(Pose2(0, 0, 0), 1.0, true);
+  broken.bearings.pop_back();
+  EXPECT_TRUE(loc.processScan(Pose2(0, 0, 0), broken).rejected);
+  EXPECT_TRUE(
+      loc.processScan(Pose2(INFINITY, 0, 0), blockRoomScan(Pose2(0, 0, 0), 1.0, true)).rejected);
+  EXPECT_EQ(loc.stats().scans_rejected, 3u);
+
+  LocalizationConfig c;
+  c.min_particles = 10;
+  c.max_particles = 5;
+  EXPECT_FALSE(c.isValid(&why));
+  EXPECT_EQ(why, "min_particles must not be above max_particles");
+  c = LocalizationConfig();
+  c.kld_err = 0.0;
+  EXPECT_FALSE(c.isValid(&why));
+  EXPECT_EQ(why.rfind("kld_err must be in", 0), 0u) << why;
+  EXPECT_THROW(Localizer(c, slamConfig()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace evidential_slam
