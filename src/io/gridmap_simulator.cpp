@@ -24,6 +24,8 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "evidential_slam/io/error_text.h"
+
 namespace evidential_slam {
 namespace io {
 namespace {
@@ -56,24 +58,6 @@ Pose2 unicycleIncrement(double v, double w, double dt) {
   return Pose2(r * std::sin(a), r * (1.0 - std::cos(a)), a);
 }
 
-// The "Message:" part of an MRPT exception text (which also holds a banner, a location and a call
-// stack); else its first non-empty line.
-std::string mrptMessage(const std::string& text) {
-  std::string message = text;
-  const size_t at = message.find("Message:");
-  if (at != std::string::npos) {
-    message = message.substr(at + 8);
-    message.resize(std::min(message.find('\n'), message.find("Location:")));
-  } else {
-    const size_t begin = message.find_first_not_of("\n");
-    message = begin == std::string::npos ? "" : message.substr(begin);
-    message.resize(std::min(message.size(), message.find('\n')));
-  }
-  const size_t begin = message.find_first_not_of(' ');
-  const size_t end = message.find_last_not_of(' ');
-  return begin == std::string::npos ? "" : message.substr(begin, end - begin + 1);
-}
-
 // MRPT's map loaders print their exceptions to std::cerr and return false. This keeps that text
 // off the terminal and for our own one-line error.
 class CerrCapture {
@@ -82,7 +66,7 @@ class CerrCapture {
   ~CerrCapture() { std::cerr.rdbuf(old_); }
   std::string message() const {
     const std::string text = buffer_.str();
-    return text.find("Message:") == std::string::npos ? "" : mrptMessage(text);
+    return text.find("Message:") == std::string::npos ? "" : oneLineMessage(text);
   }
 
  private:
@@ -210,18 +194,28 @@ std::vector<GridmapSimulatorField> gridmapSimulatorFields(GridmapSimulatorConfig
 
 bool readWaypoints(const std::string& path, std::vector<Eigen::Vector2d>* waypoints,
                    std::string* error) {
+  waypoints->clear();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    if (error) *error = "waypoint file '" + path + "' does not exist or is not a file";
+    return false;
+  }
+  std::ifstream in(path);
+  if (!in) {
+    if (error) *error = "cannot read waypoint file '" + path + "'";
+    return false;
+  }
+  return readWaypoints(in, path, waypoints, error);
+}
+
+bool readWaypoints(std::istream& in, const std::string& name,
+                   std::vector<Eigen::Vector2d>* waypoints, std::string* error) {
   auto fail = [&](const std::string& why) {
     if (error) *error = why;
     waypoints->clear();
     return false;
   };
   waypoints->clear();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    return fail("waypoint file '" + path + "' does not exist or is not a file");
-  }
-  std::ifstream in(path);
-  if (!in) return fail("cannot read waypoint file '" + path + "'");
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
@@ -235,13 +229,14 @@ bool readWaypoints(const std::string& path, std::vector<Eigen::Vector2d>* waypoi
     double x = 0.0, y = 0.0;
     std::string extra;
     if (!(again >> x >> y) || (again >> extra) || !finite(x) || !finite(y)) {
-      return fail("waypoint file '" + path + "' line " + std::to_string(number) +
-                  ": expected two numbers `x y`, got '" + line + "'");
+      return fail("waypoint file '" + name + "' line " + std::to_string(number) +
+                  ": expected two numbers `x y`, got " + quotedForMessage(line));
     }
     waypoints->emplace_back(x, y);
   }
+  if (in.bad()) return fail("error reading waypoint file '" + name + "'");
   if (waypoints->size() < 2) {
-    return fail("waypoint file '" + path + "' holds " + std::to_string(waypoints->size()) +
+    return fail("waypoint file '" + name + "' holds " + std::to_string(waypoints->size()) +
                 " waypoint(s); at least 2 are needed");
   }
   return true;
@@ -363,7 +358,7 @@ struct GridmapSimulator::Impl {
       }
     } catch (const std::exception& e) {
       ok = false;
-      detail = mrptMessage(e.what());
+      detail = oneLineMessage(e.what());
     }
     if (detail.empty()) detail = capture.message();
     if (!ok) {
@@ -386,6 +381,19 @@ struct GridmapSimulator::Impl {
     buildObstacles();
     if (!config.waypoints.empty()) {
       if (!readWaypoints(config.waypoints, &waypoints, error)) return false;
+      // The run ends at the last waypoint: one far off the map would never be reached.
+      for (size_t i = 0; i < waypoints.size(); ++i) {
+        const Eigen::Vector2d& w = waypoints[i];
+        if (w.x() < grid.getXMin() || w.x() > grid.getXMax() || w.y() < grid.getYMin() ||
+            w.y() > grid.getYMax()) {
+          std::ostringstream why;
+          why << "waypoint " << i + 1 << " of '" << config.waypoints << "' at (" << w.x() << ", "
+              << w.y() << ") lies outside the map (x " << grid.getXMin() << " .. " << grid.getXMax()
+              << ", y " << grid.getYMin() << " .. " << grid.getYMax() << " m)";
+          *error = why.str();
+          return false;
+        }
+      }
       const Eigen::Vector2d d = waypoints[1] - waypoints[0];
       truth = Pose2(waypoints[0].x(), waypoints[0].y(), std::atan2(d.y(), d.x()));
     } else {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <fstream>
 
+#include "evidential_slam/io/error_text.h"
+
 namespace evidential_slam {
 namespace io {
 namespace {
@@ -43,6 +45,12 @@ bool readGroundTruth(const std::string& path, std::vector<StampedPose>* poses, s
     if (error) *error = "cannot open ground truth '" + path + "'";
     return false;
   }
+  return readGroundTruth(in, path, poses, error);
+}
+
+bool readGroundTruth(std::istream& in, const std::string& name, std::vector<StampedPose>* poses,
+                     std::string* error) {
+  poses->clear();
   std::string line;
   size_t line_no = 0;
   while (std::getline(in, line)) {
@@ -52,10 +60,9 @@ bool readGroundTruth(const std::string& path, std::vector<StampedPose>* poses, s
     StampedPose sp;
     if (!parseGroundTruthLine(line, &sp)) {
       if (error) {
-        std::string shown = line.substr(0, 60);
-        if (!shown.empty() && shown.back() == '\r') shown.pop_back();
-        *error = path + ":" + std::to_string(line_no) + ": expected 't x y phi', got '" + shown +
-                 (line.size() > 60 ? "...'" : "'");
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        *error = name + ":" + std::to_string(line_no) + ": expected 't x y phi', got " +
+                 quotedForMessage(line);
       }
       poses->clear();
       return false;
@@ -63,7 +70,7 @@ bool readGroundTruth(const std::string& path, std::vector<StampedPose>* poses, s
     poses->push_back(sp);
   }
   if (in.bad()) {
-    if (error) *error = "error reading ground truth '" + path + "'";
+    if (error) *error = "error reading ground truth '" + name + "'";
     poses->clear();
     return false;
   }

@@ -1,4 +1,8 @@
 // MRPT rawlog -> core LaserScan + odometry. See rawlog_reader.h for the contract.
+//
+// Objects are read one at a time: each is first pre-checked on its bytes (rawlog_precheck.h), then
+// deserialised by MRPT from the same look-ahead buffer, with MRPT's reads capped at the object's
+// checked length. The values MRPT hands back are checked before they are used.
 #include "evidential_slam/io/rawlog_reader.h"
 
 #include <algorithm>
@@ -7,91 +11,51 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <system_error>
 
 #include <mrpt/core/Clock.h>
+#include <mrpt/core/exceptions.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
+#include "evidential_slam/io/error_text.h"
+#include "rawlog_precheck.h"
+
 namespace evidential_slam {
 namespace io {
 namespace {
 
-// Forwards reads to the gz stream and watches the byte level, because MRPT's rawlog reader returns
-// false both at a clean end of file and inside a cut-off entry (its archive turns any failure
-// inside an object into CExceptionEOF). Every MRPT object ends with a one-byte end flag (0x88) and
-// starts with a one-byte header read, so a read that finds no data right after an end flag (or at
-// the very start) is a clean end; anywhere else the file ends inside an object.
-class CountingStream : public mrpt::io::CStream {
- public:
-  explicit CountingStream(mrpt::io::CFileGZInputStream& in) : in_(in) {}
-  size_t Read(void* buffer, size_t count) override {
-    size_t n = in_.Read(buffer, count);
-    const bool failed = n > count;  // a zlib error (-1) seen through size_t
-    if (failed) n = 0;
-    if (n < count && !hit_end_) {
-      hit_end_ = true;
-      end_at_boundary_ = !failed && n == 0 && count == 1 && (consumed_ == 0 || last_was_end_flag_);
-    }
-    last_was_end_flag_ = n == 1 && count == 1 && static_cast<uint8_t*>(buffer)[0] == kEndFlag;
-    consumed_ += n;
-    return n;
-  }
-  size_t Write(const void*, size_t) override { return 0; }
-  uint64_t Seek(int64_t, TSeekOrigin) override { return consumed_; }
-  uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
-  uint64_t getPosition() const override { return consumed_; }
-  uint64_t consumed() const { return consumed_; }
-  // True once a read came back short; endedAtBoundary() says whether that was between objects.
-  bool hitEnd() const { return hit_end_; }
-  bool endedAtBoundary() const { return end_at_boundary_; }
-
- private:
-  static constexpr uint8_t kEndFlag = 0x88;  // MRPT's SERIALIZATION_END_FLAG
-  mrpt::io::CFileGZInputStream& in_;
-  uint64_t consumed_ = 0;
-  bool last_was_end_flag_ = false;
-  bool hit_end_ = false;
-  bool end_at_boundary_ = false;
-};
-
-// CRawlog's stream readers print caught exceptions to std::cerr; this keeps that text for our own
-// one-line messages instead of letting it reach the terminal.
+// MRPT prints some exceptions to std::cerr before it returns (CFileGZInputStream::open); this
+// keeps that text off the terminal.
 class CerrCapture {
  public:
   CerrCapture() : old_(std::cerr.rdbuf(buffer_.rdbuf())) {}
   ~CerrCapture() { std::cerr.rdbuf(old_); }
-  // The captured text squeezed onto one line.
-  std::string text() const {
-    std::string s = buffer_.str();
-    std::string out;
-    bool space = false;
-    for (char c : s) {
-      if (c == '\n' || c == '\r' || c == '\t' || c == ' ') {
-        space = !out.empty();
-        continue;
-      }
-      if (space) out += ' ';
-      space = false;
-      out += c;
-    }
-    return out;
-  }
 
  private:
   std::ostringstream buffer_;
   std::streambuf* old_;
 };
+
+// A number for a message ("nan", "inf", "1e+30").
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", v);
+  return buf;
+}
+
+// The widest aperture a scan may claim: a full turn, with room for float rounding.
+constexpr double kMaxAperture = 2.0 * M_PI + 1e-4;
 
 double toSeconds(const mrpt::system::TTimeStamp& t) {
   return t == INVALID_TIMESTAMP ? 0.0 : mrpt::Clock::toDouble(t);
@@ -125,10 +89,9 @@ struct RawlogReader::Impl {
 
   RawlogReaderConfig config;
   std::string path;
-  mrpt::io::CFileGZInputStream file;
-  std::unique_ptr<CountingStream> counting;
+  std::unique_ptr<mrpt::io::CStream> source;  // the gzip (or plain) file, or bytes in memory
+  std::unique_ptr<detail::LookaheadStream> lookahead;
   std::unique_ptr<mrpt::serialization::CArchive> archive;
-  size_t rawlog_entry = 0;
 
   RawlogCounts counts;
   RawlogFormat format = RawlogFormat::kUnknown;
@@ -136,16 +99,92 @@ struct RawlogReader::Impl {
   bool stream_done = false;  // no more entries will be read
   Status final_status = Status::kEnd;
 
-  OdometrySource source = OdometrySource::kNone;
+  OdometrySource source_kind = OdometrySource::kNone;
   bool warned_mixed_sources = false;
   mrpt::poses::CPose2D accumulated;  // integral of the action increments
+  // An action collection was read and waits for its sensory frame; its increment and stamp.
+  // As MRPT's CRawlog::getActionObservationPairOrObservation pairs them, what comes between the
+  // two is skipped, and so is a sensory frame without an action before it.
+  bool action_pending = false;
+  std::optional<mrpt::poses::CPose2D> pending_increment;
+  double pending_increment_stamp = 0.0;
   std::deque<OdometrySample> samples;
   std::deque<RawlogScan> pending;
   double last_scan_stamp = -std::numeric_limits<double>::infinity();
 
+  // Stops reading: the data from entry `entry` (1-based) on cannot be used.
+  void fail(Status status, const std::string& why) {
+    stream_done = true;
+    final_status = status;
+    message = why;
+    if (status == Status::kError) pending.clear();
+  }
+  void corrupt(uint64_t entry, uint64_t at_byte, const std::string& why) {
+    fail(Status::kError, "'" + path + "' is corrupt at rawlog entry " + std::to_string(entry) +
+                             " (after " + std::to_string(at_byte) + " bytes of data): " + why);
+  }
+  // Data that cannot be read as an MRPT object: at the first entry, not a rawlog at all.
+  void unreadable(uint64_t entry, uint64_t at_byte, const std::string& why) {
+    if (entry == 1) {
+      fail(Status::kError, "'" + path + "' is not an MRPT rawlog: " + why);
+    } else {
+      corrupt(entry, at_byte, why);
+    }
+  }
+  void truncated(uint64_t entry, uint64_t at_byte) {
+    if (entry <= 1) {
+      fail(Status::kError,
+           "'" + path + "' is not an MRPT rawlog (or is cut before its first entry)");
+    } else {
+      fail(Status::kTruncated, "'" + path + "' ends inside rawlog entry " + std::to_string(entry) +
+                                   " (truncated or corrupt after " + std::to_string(at_byte) +
+                                   " bytes of data); the entries before it were used");
+    }
+  }
+
+  // Empty when the pose is a believable odometry reading; else what is wrong with it.
+  std::string badOdometry(const mrpt::poses::CPose2D& p, const char* what) const {
+    const double limit = config.limits.max_coordinate;
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.phi()) ||
+        std::abs(p.x()) > limit || std::abs(p.y()) > limit) {
+      return std::string("an ") + what + " of (" + number(p.x()) + ", " + number(p.y()) + ", " +
+             number(p.phi()) + ") (coordinates must be finite and within " + number(limit) + " m)";
+    }
+    return {};
+  }
+
+  // Empty when MRPT's scan describes a possible sensor; else what is wrong with it.
+  std::string badScan(const mrpt::obs::CObservation2DRangeScan& obs) const {
+    const double aperture = obs.aperture;
+    if (!std::isfinite(aperture) || aperture < 0.0 || aperture > kMaxAperture ||
+        (aperture == 0.0 && obs.getScanSize() >= 2)) {
+      return "a scan aperture of " + number(aperture) + " rad (wants (0, 2 pi])";
+    }
+    if (!std::isfinite(obs.maxRange) || obs.maxRange < 0.0f) {
+      return "a scan maximum range of " + number(obs.maxRange) + " m";
+    }
+    if (!std::isfinite(obs.stdError) || obs.stdError < 0.0f) {
+      return "a scan range noise of " + number(obs.stdError) + " m";
+    }
+    const auto& p = obs.sensorPose;
+    const double limit = config.limits.max_sensor_offset;
+    const auto R = p.getRotationMatrix();
+    bool finite_rotation = true;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) finite_rotation = finite_rotation && std::isfinite(R(r, c));
+    }
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()) ||
+        std::abs(p.x()) > limit || std::abs(p.y()) > limit || std::abs(p.z()) > limit ||
+        !finite_rotation) {
+      return "a laser pose on the robot at (" + number(p.x()) + ", " + number(p.y()) + ", " +
+             number(p.z()) + ") (must be finite and within " + number(limit) + " m)";
+    }
+    return {};
+  }
+
   void addSample(double stamp, const mrpt::poses::CPose2D& pose, OdometrySource from) {
-    if (source == OdometrySource::kNone) source = from;
-    if (source != from) {
+    if (source_kind == OdometrySource::kNone) source_kind = from;
+    if (source_kind != from) {
       // Increments and absolute readings live in different odom frames: keep the first kind.
       warned_mixed_sources = true;
       return;
@@ -199,30 +238,67 @@ struct RawlogReader::Impl {
     }
   }
 
-  void handleObservation(const mrpt::obs::CObservation& obs) {
+  // False (reading stopped with kError) when the observation holds an impossible value.
+  bool handleObservation(const mrpt::obs::CObservation& obs, uint64_t entry) {
     if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs)) {
+      const std::string bad = badScan(*scan);
+      if (!bad.empty()) {
+        corrupt(entry, lookahead->consumed(), bad);
+        return false;
+      }
       addScan(*scan);
     } else if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obs)) {
+      const std::string bad = badOdometry(odo->odometry, "odometry pose");
+      if (!bad.empty()) {
+        corrupt(entry, lookahead->consumed(), bad);
+        return false;
+      }
       addSample(toSeconds(odo->timestamp), odo->odometry, OdometrySource::kObservations);
     } else {
       ++counts.other_observations;
     }
+    return true;
   }
 
-  void handleActionAndFrame(const mrpt::obs::CActionCollection& actions,
-                            const mrpt::obs::CSensoryFrame& frame) {
-    // The increment is the motion since the previous frame; it is stamped with the frame's first
-    // valid observation stamp (the action's own stamp is invalid in e.g. simul.rawlog).
-    const auto move = actions.getBestMovementEstimation();
-    if (move) {
-      mrpt::poses::CPose2D increment;
-      if (move->estimationMethod == mrpt::obs::CActionRobotMovement2D::emOdometry) {
-        increment = move->rawOdometryIncrementReading;
-      } else if (move->poseChange) {
-        increment = move->poseChange->getMeanVal();
+  // An action collection: its movement waits for the sensory frame that follows (whose stamp it
+  // takes: the action's own is invalid in e.g. simul.rawlog).
+  bool handleActions(const mrpt::obs::CActionCollection& actions, uint64_t entry) {
+    action_pending = true;
+    pending_increment.reset();
+    auto incrementOf = [](const mrpt::obs::CActionRobotMovement2D& move) {
+      if (move.estimationMethod == mrpt::obs::CActionRobotMovement2D::emOdometry) {
+        return move.rawOdometryIncrementReading;
       }
-      accumulated = accumulated + increment;
-      double stamp = toSeconds(move->timestamp);
+      return move.poseChange ? move.poseChange->getMeanVal() : mrpt::poses::CPose2D();
+    };
+    // Every movement, not only the best one: MRPT's choice passes over a NaN covariance.
+    for (const auto& action : actions) {
+      const auto* move = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(action.get());
+      const std::string bad = move ? badOdometry(incrementOf(*move), "odometry increment") : "";
+      if (!bad.empty()) {
+        corrupt(entry, lookahead->consumed(), bad);
+        return false;
+      }
+    }
+    const auto move = actions.getBestMovementEstimation();
+    if (!move) return true;
+    pending_increment = incrementOf(*move);
+    pending_increment_stamp = toSeconds(move->timestamp);
+    return true;
+  }
+
+  bool handleFrame(const mrpt::obs::CSensoryFrame& frame, uint64_t entry) {
+    action_pending = false;
+    if (pending_increment) {
+      const mrpt::poses::CPose2D next = accumulated + *pending_increment;
+      pending_increment.reset();
+      const std::string bad = badOdometry(next, "odometry pose");
+      if (!bad.empty()) {
+        corrupt(entry, lookahead->consumed(), bad);
+        return false;
+      }
+      accumulated = next;
+      double stamp = pending_increment_stamp;
       for (const auto& obs : frame) {
         if (obs && obs->timestamp != INVALID_TIMESTAMP) {
           stamp = toSeconds(obs->timestamp);
@@ -232,8 +308,9 @@ struct RawlogReader::Impl {
       addSample(stamp, accumulated, OdometrySource::kActions);
     }
     for (const auto& obs : frame) {
-      if (obs) handleObservation(*obs);
+      if (obs && !handleObservation(*obs, entry)) return false;
     }
+    return true;
   }
 
   // Odometry at `stamp` from the retained samples: exact, interpolated between the samples around
@@ -294,74 +371,110 @@ struct RawlogReader::Impl {
     return false;
   }
 
-  // Reads one rawlog entry (an action + sensory frame pair or an observation). False at the end.
-  bool readEntry() {
-    mrpt::obs::CActionCollection::Ptr actions;
-    mrpt::obs::CSensoryFrame::Ptr frame;
-    mrpt::obs::CObservation::Ptr observation;
-    const uint64_t before = counting->consumed();
-    const size_t entries_before = rawlog_entry;
-    bool ok = false;
-    std::string mrpt_error;
-    {
-      CerrCapture capture;
-      try {
-        ok = mrpt::obs::CRawlog::getActionObservationPairOrObservation(*archive, actions, frame,
-                                                                       observation, rawlog_entry);
-      } catch (const std::exception& e) {
-        ok = false;
-        std::cerr << e.what();
+  // Reads one top-level object (an action collection, a sensory frame or an observation). False
+  // once reading has stopped (final_status and message say why).
+  bool readObject() {
+    detail::LookaheadStream& in = *lookahead;
+    const uint64_t entry = counts.entries + 1;
+    const uint64_t start = in.consumed();
+    if (!in.fill(1)) {
+      // A non-empty file that yields no data at all (a broken gzip stream) is not "empty".
+      const bool no_data_from_nonempty_file = start == 0 && in.getTotalBytesCount() > 0;
+      if (in.sourceFailed() || no_data_from_nonempty_file) {
+        // Broken gzip data, or a gzip file cut short, at an entry boundary.
+        truncated(entry, start);
+      } else {
+        // Clean end. A trailing action collection without its sensory frame (simul-gridmap
+        // writes one) carries no scan and is dropped.
+        stream_done = true;
+        final_status = Status::kEnd;
       }
-      mrpt_error = capture.text();
-    }
-    if (ok) {
-      counts.entries = rawlog_entry;
-      if (observation) {
-        if (format == RawlogFormat::kUnknown) format = RawlogFormat::kObservations;
-        handleObservation(*observation);
-      } else if (actions && frame) {
-        if (format == RawlogFormat::kUnknown) format = RawlogFormat::kActionsSensoryFrames;
-        handleActionAndFrame(*actions, *frame);
-      }
-      return true;
-    }
-    stream_done = true;
-    counts.entries = rawlog_entry;
-    // A non-empty file that yields no data at all (e.g. a broken gzip stream) is not "empty".
-    const bool no_data_from_nonempty_file =
-        counting->consumed() == 0 && file.getTotalBytesCount() > 0;
-    if (counting->hitEnd() && counting->endedAtBoundary() && mrpt_error.empty() &&
-        !no_data_from_nonempty_file) {
-      // Clean end. A trailing action collection without its sensory frame (simul-gridmap writes
-      // one) carries no scan and is dropped.
-      final_status = Status::kEnd;
       return false;
     }
-    // MRPT's exception text comes with a banner, a location and a call stack: keep the message.
-    std::string detail = mrpt_error;
-    const size_t msg = detail.find("Message:");
-    if (msg != std::string::npos) detail = detail.substr(msg + 8);
-    for (const char* cut : {" Location:", " Call stack", " Original exception:"}) {
-      const size_t at = detail.find(cut);
-      if (at != std::string::npos) detail.resize(at);
+    const detail::PrecheckResult check = detail::precheckRawlogObject(in, config.limits);
+    if (check.verdict == detail::Precheck::kTruncated) {
+      truncated(entry, start);
+      return false;
     }
-    const size_t start = detail.find_first_not_of(' ');
-    detail = start == std::string::npos ? std::string() : detail.substr(start);
-    if (detail.size() > 120) detail = detail.substr(0, 117) + "...";
-    if (entries_before == 0) {
-      final_status = Status::kError;
-      message = "'" + path + "' is not an MRPT rawlog (or is cut before its first entry)" +
-                (detail.empty() ? std::string() : ": " + detail);
-    } else {
-      final_status = Status::kTruncated;
-      message = "'" + path + "' ends inside rawlog entry " + std::to_string(entries_before + 1) +
-                " (truncated or corrupt after " + std::to_string(before) +
-                " bytes of data); the entries before it were used";
-      if (!detail.empty()) message += ": " + detail;
+    if (check.verdict == detail::Precheck::kCorrupt) {
+      unreadable(entry, start, check.why);
+      return false;
     }
-    return false;
+    const bool checked = check.verdict == detail::Precheck::kOk;
+    if (!checked) ++counts.unchecked_entries;
+    const std::string what = checked ? "an entry" : "a " + check.why;  // the class not checked
+
+    mrpt::serialization::CSerializable::Ptr object;
+    in.capReads(checked ? check.bytes : config.limits.max_object_bytes);
+    try {
+      object = archive->ReadObject();
+    } catch (const std::bad_alloc&) {
+      in.capReads(UINT64_MAX);
+      corrupt(entry, start, what + " that asks for more memory than there is");
+      return false;
+    } catch (const std::exception& e) {
+      in.capReads(UINT64_MAX);
+      if (in.capHit()) {
+        corrupt(entry, start,
+                checked ? "an entry MRPT reads past its checked length"
+                        : what + " longer than " + std::to_string(config.limits.max_object_bytes) +
+                              " bytes");
+      } else if (in.fill(1)) {
+        unreadable(entry, start, oneLineMessage(e.what()));
+      } else {
+        truncated(entry, start);
+      }
+      return false;
+    }
+    in.capReads(UINT64_MAX);
+    if (checked && in.consumed() - start != check.bytes) {
+      corrupt(entry, start,
+              "an entry MRPT reads as " + std::to_string(in.consumed() - start) +
+                  " bytes where its check found " + std::to_string(check.bytes));
+      return false;
+    }
+    counts.entries = entry;
+    if (action_pending) {
+      const auto* frame = dynamic_cast<const mrpt::obs::CSensoryFrame*>(object.get());
+      return frame ? handleFrame(*frame, entry) : true;
+    }
+    if (const auto* actions = dynamic_cast<const mrpt::obs::CActionCollection*>(object.get())) {
+      if (format == RawlogFormat::kUnknown) format = RawlogFormat::kActionsSensoryFrames;
+      return handleActions(*actions, entry);
+    }
+    if (const auto* obs = dynamic_cast<const mrpt::obs::CObservation*>(object.get())) {
+      if (format == RawlogFormat::kUnknown) format = RawlogFormat::kObservations;
+      return handleObservation(*obs, entry);
+    }
+    return true;  // a sensory frame without an action before it
+  }
+
+  bool start(std::unique_ptr<mrpt::io::CStream> stream, std::string* error) {
+    std::string why;
+    if (!config.limits.isValid(&why)) {
+      if (error) *error = "invalid rawlog reader limits: " + why;
+      return false;
+    }
+    source = std::move(stream);
+    lookahead = std::make_unique<detail::LookaheadStream>(*source);
+    archive = mrpt::serialization::archiveUniquePtrFrom(*lookahead);
+    return true;
   }
 };
+
+bool RawlogLimits::isValid(std::string* why) const {
+  auto bad = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (max_beams < 1) return bad("max_beams must be >= 1");
+  if (max_objects < 1) return bad("max_objects must be >= 1");
+  if (max_matrix_elements < 16) return bad("max_matrix_elements must be >= 16 (a 4x4 pose)");
+  if (max_object_bytes < 1024) return bad("max_object_bytes must be >= 1024");
+  if (!(max_coordinate > 0.0)) return bad("max_coordinate must be > 0");
+  if (!(max_sensor_offset > 0.0)) return bad("max_sensor_offset must be > 0");
+  return true;
+}
 
 RawlogReader::RawlogReader(const RawlogReaderConfig& config)
     : impl_(std::make_unique<Impl>(config)) {}
@@ -378,23 +491,28 @@ bool RawlogReader::open(const std::string& path, std::string* error) {
   if (std::filesystem::is_directory(path, ec)) return fail("rawlog '" + path + "' is a directory");
   Impl& d = *impl_;
   d.path = path;
+  auto file = std::make_unique<mrpt::io::CFileGZInputStream>();
   std::string open_error;
   bool opened = false;
   {
     CerrCapture capture;
     try {
-      opened = d.file.open(path, open_error);
+      opened = file->open(path, open_error);
     } catch (const std::exception& e) {
       open_error = e.what();
     }
   }
   if (!opened) {
+    const std::string detail = oneLineMessage(open_error);
     return fail("cannot open rawlog '" + path + "'" +
-                (open_error.empty() ? "" : ": " + open_error));
+                (detail == "(no message)" ? "" : ": " + detail));
   }
-  d.counting = std::make_unique<CountingStream>(d.file);
-  d.archive = mrpt::serialization::archiveUniquePtrFrom(*d.counting);
-  return true;
+  return d.start(std::move(file), error);
+}
+
+bool RawlogReader::openBytes(std::string bytes, const std::string& name, std::string* error) {
+  impl_->path = name;
+  return impl_->start(std::make_unique<detail::BytesStream>(std::move(bytes)), error);
 }
 
 RawlogReader::Status RawlogReader::next(RawlogScan* out) {
@@ -409,7 +527,7 @@ RawlogReader::Status RawlogReader::next(RawlogScan* out) {
       // Any scan still pending had no odometry near it; popResolved dropped it.
       return d.final_status;
     }
-    d.readEntry();
+    d.readObject();
   }
 }
 
@@ -421,8 +539,8 @@ std::vector<std::string> RawlogReader::warnings() const {
   std::vector<std::string> w;
   if (impl_->warned_mixed_sources) {
     w.push_back("the log has both odometry increments and absolute odometry observations; used " +
-                std::string(impl_->source == OdometrySource::kActions ? "the increments"
-                                                                      : "the observations"));
+                std::string(impl_->source_kind == OdometrySource::kActions ? "the increments"
+                                                                           : "the observations"));
   }
   if (impl_->counts.scans_out_of_order > 0 || impl_->counts.odometry_out_of_order > 0) {
     w.push_back("time went backwards in the log: skipped " +

@@ -13,6 +13,7 @@
 
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/io/command_line.h"
+#include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/parameter_file.h"
 #include "evidential_slam/io/progress.h"
@@ -531,22 +532,6 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
   return true;
 }
 
-namespace {
-
-// First meaningful line of an exception text (MRPT's carry a banner and a call stack).
-std::string oneLine(const std::string& what) {
-  std::string text = what;
-  const size_t msg = text.find("Message:");
-  if (msg != std::string::npos) text = text.substr(msg + 8);
-  const size_t start = text.find_first_not_of(" \t\n");
-  if (start == std::string::npos) return "(no message)";
-  text = text.substr(start);
-  const size_t eol = text.find('\n');
-  return eol == std::string::npos ? text : text.substr(0, eol);
-}
-
-}  // namespace
-
 int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty) {
   try {
     Run run(options, out, err, err_is_tty);
@@ -555,7 +540,7 @@ int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bo
     std::fprintf(err, "error: out of memory\n");
     return kExitInternal;
   } catch (const std::exception& e) {
-    std::fprintf(err, "error: unexpected failure: %s\n", oneLine(e.what()).c_str());
+    std::fprintf(err, "error: unexpected failure: %s\n", oneLineMessage(e.what()).c_str());
     return kExitInternal;
   }
 }

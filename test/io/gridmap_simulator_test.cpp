@@ -517,6 +517,17 @@ TEST(GridmapSimulator, BadInputGivesAOneLineError) {
   EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
   expectOneLineError(error, "no_waypoints.txt' does not exist");
 
+  // Bytes of a binary file are shown escaped, not written to the terminal.
+  garbage.waypoints = writeWaypoints(dir, std::string("1 2\n\x1b[2J\x01\xff 3\n", 13));
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "got '\\x1b[2J\\x01\\xff 3'");
+
+  // A waypoint off the map would never be reached: the run would not end.
+  garbage.waypoints = writeWaypoints(dir, "1 1\n1e9 1\n");
+  EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
+  expectOneLineError(error, "waypoint 2 of");
+  expectOneLineError(error, "lies outside the map");
+
   GridmapSimulatorConfig invalid = c;
   invalid.linear_speed = -1.0;
   EXPECT_FALSE(GridmapSimulator(invalid).load(&error));

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "test_util.h"
 
 namespace evidential_slam {
@@ -58,6 +60,30 @@ TEST(GroundTruth, MalformedLinesAreErrorsWithFileAndLine) {
     EXPECT_NE(error.find(path.string() + ":3:"), std::string::npos) << error;
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
+}
+
+TEST(GroundTruth, RawBytesOfALineAreShownEscaped) {
+  const auto path = test::scratchDir() / "binary.txt";
+  test::writeText(path, std::string("0 0 0 0\n\x1b]0;x\x07\xfe 1 2\n", 20));
+  std::vector<StampedPose> poses;
+  std::string error;
+  EXPECT_FALSE(readGroundTruth(path.string(), &poses, &error));
+  EXPECT_NE(error.find(":2: expected 't x y phi', got '\\x1b]0;x\\x07\\xfe 1 2'"),
+            std::string::npos)
+      << error;
+  for (char c : error) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << error;
+}
+
+TEST(GroundTruth, ReadsFromAStream) {
+  std::istringstream in("# t x y phi\n1 2 3 0.5\n\n2, 3, 4, 0.25\n");
+  std::vector<StampedPose> poses;
+  std::string error;
+  ASSERT_TRUE(readGroundTruth(in, "memory", &poses, &error)) << error;
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_DOUBLE_EQ(poses[1].pose.theta, 0.25);
+  std::istringstream bad("1 2 3\n");
+  EXPECT_FALSE(readGroundTruth(bad, "memory", &poses, &error));
+  EXPECT_NE(error.find("memory:1:"), std::string::npos) << error;
 }
 
 TEST(GroundTruth, MissingFile) {

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <nlohmann/json.hpp>
 
 #include "evidential_slam/core/measures.h"
@@ -208,6 +210,55 @@ TEST_F(OfflineE2E, NotARawlog) {
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("error: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("not an MRPT rawlog"), std::string::npos) << r.err;
+}
+
+// The fixture's decompressed bytes with `patch` applied at the payload of its `nth` scan (0-based;
+// `offset` bytes after the scan's version byte).
+std::string patchedFixture(int nth, size_t offset, const std::string& patch) {
+  mrpt::io::CFileGZInputStream in(dataPath("sim.rawlog"));
+  std::string bytes;
+  char buf[65536];
+  size_t n;
+  while ((n = in.Read(buf, sizeof(buf))) > 0 && n <= sizeof(buf)) bytes.append(buf, n);
+  const std::string name = "mrpt::obs::CObservation2DRangeScan";
+  size_t at = 0;
+  for (int i = 0; i <= nth; ++i) at = bytes.find(name, at + 1);
+  EXPECT_NE(at, std::string::npos);
+  bytes.replace(at + name.size() + 1 + offset, patch.size(), patch);
+  return bytes;
+}
+
+// A corrupt entry in the middle of the log (here scan 40's beam count: 2^30, which made MRPT
+// write through a null pointer) and an impossible value are bad input: exit 2 with one line that
+// names the entry, before any SLAM work.
+TEST_F(OfflineE2E, CorruptLogIsBadInput) {
+  // Aperture (4), direction (1) and maximum range (4), then the CPose3D (header, version 3:
+  // twelve doubles, end flag), then the beam count.
+  const size_t beam_count = 9 + 1 + 20 + 1 + 96 + 1;
+  const std::string huge("\x00\x00\x00\x40", 4);
+  const float nan = std::nanf("");
+  const std::string nan_bytes(reinterpret_cast<const char*>(&nan), 4);
+  struct Case {
+    std::string bytes, expect;
+  };
+  for (const Case& c : {Case{patchedFixture(40, beam_count, huge), "1073741824 beams in a scan"},
+                        Case{patchedFixture(40, 0, nan_bytes), "a scan aperture of nan rad"}}) {
+    const fs::path log = scratch_ / "corrupt.rawlog", out = scratch_ / "out";
+    test::writeText(log, c.bytes);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result r =
+        runOffline(concat({"--rawlog", log.string(), "--out", out.string()}, kFast), scratch_);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: '" + log.string() + "' is corrupt at rawlog entry 82"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_LT(seconds, 10.0);
+    EXPECT_FALSE(fs::exists(out / "summary.json"));
+  }
 }
 
 TEST_F(OfflineE2E, TruncatedLogStillWritesOutputs) {

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <istream>
 #include <memory>
 #include <string>
 #include <variant>
@@ -99,6 +100,9 @@ std::vector<GridmapSimulatorField> gridmapSimulatorFields(GridmapSimulatorConfig
 // that is not two finite numbers, or fewer than two waypoints.
 bool readWaypoints(const std::string& path, std::vector<Eigen::Vector2d>* waypoints,
                    std::string* error);
+// The same from a stream; `name` stands for the file in messages.
+bool readWaypoints(std::istream& in, const std::string& name,
+                   std::vector<Eigen::Vector2d>* waypoints, std::string* error);
 
 // One simulated scan and what is true at its stamp.
 struct SimulatedScan {

@@ -2,6 +2,7 @@
 // line per pose (seconds, metres, radians). Used to score the SLAM path (ATE).
 #pragma once
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,9 @@ namespace io {
 // hold exactly four finite numbers. False (and a one-line `error` naming the file and line) on a
 // missing file or a malformed line; `poses` is then left empty.
 bool readGroundTruth(const std::string& path, std::vector<StampedPose>* poses, std::string* error);
+// The same from a stream; `name` stands for the file in messages.
+bool readGroundTruth(std::istream& in, const std::string& name, std::vector<StampedPose>* poses,
+                     std::string* error);
 
 // Parses one non-comment line; false when it is not four finite numbers.
 bool parseGroundTruthLine(const std::string& line, StampedPose* pose);

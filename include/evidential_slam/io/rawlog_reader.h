@@ -16,6 +16,22 @@
 namespace evidential_slam {
 namespace io {
 
+// Bounds on what one rawlog entry may make the reader allocate or accept. MRPT allocates what a
+// length field asks for before it reads the data, so these are checked on the bytes first; an
+// entry beyond them, or with an impossible value, is corrupt (RawlogReader::Status::kError).
+struct RawlogLimits {
+  uint32_t max_beams = 100000;           // rays of one 2-D scan
+  uint32_t max_objects = 1000;           // observations in a sensory frame, actions in a collection
+  uint32_t max_string_bytes = 4096;      // a sensor label
+  uint32_t max_matrix_elements = 1024;   // a pose or covariance matrix (rows x cols)
+  uint32_t max_motion_samples = 100000;  // particles of an odometry action's Thrun motion model
+  uint64_t max_object_bytes = 64u << 20;  // one action collection, sensory frame or observation
+  double max_coordinate = 1e5;            // m, |x| and |y| of an odometry pose or increment
+  double max_sensor_offset = 100.0;       // m, |x|, |y| and |z| of the laser on the robot
+
+  bool isValid(std::string* why) const;
+};
+
 struct RawlogReaderConfig {
   // Only scans with this sensor label are read; empty = every CObservation2DRangeScan.
   std::string laser_label;
@@ -25,6 +41,7 @@ struct RawlogReaderConfig {
   // Scans waiting for a later odometry sample, at most; older ones are dropped beyond this
   // (bounds memory on a log whose odometry stops).
   size_t max_pending_scans = 256;
+  RawlogLimits limits;
 };
 
 // One scan of the log with the odometry at its stamp.
@@ -48,6 +65,9 @@ struct RawlogCounts {
   uint64_t scans_out_of_order = 0;
   uint64_t odometry_out_of_order = 0;
   uint64_t other_observations = 0;  // observations of other classes or labels, ignored
+  // Entries holding a class whose layout the reader does not check before MRPT reads it (an
+  // observation of another sensor, e.g. a camera image); MRPT's own checks apply to them.
+  uint64_t unchecked_entries = 0;
 };
 
 class RawlogReader {
@@ -57,22 +77,28 @@ class RawlogReader {
   RawlogReader(const RawlogReader&) = delete;
   RawlogReader& operator=(const RawlogReader&) = delete;
 
-  // Opens `path`. False (and `error`, one line) when it is missing or unreadable. Whether it is a
-  // rawlog at all shows on the first next().
+  // Opens `path`. False (and `error`, one line) when it is missing or unreadable, or the config's
+  // limits are not valid. Whether it is a rawlog at all shows on the first next().
   bool open(const std::string& path, std::string* error);
+  // Reads the (uncompressed) rawlog `bytes`; `name` stands for the file in messages.
+  bool openBytes(std::string bytes, const std::string& name, std::string* error);
 
   enum class Status {
     kScan,       // `out` holds the next scan
     kEnd,        // clean end of file
-    kTruncated,  // the file ends inside an entry: everything before it was returned (warning())
-    kError,      // the data is not a rawlog (or is corrupt) before any entry could be read
+    kTruncated,  // the file ends inside an entry: everything before it was returned (message())
+    // The data is not a rawlog, or an entry is corrupt: a length beyond RawlogLimits or an
+    // impossible class, version or value (a NaN aperture, an odometry pose 10^6 km away). The
+    // scans before it may have been returned; message() names the entry.
+    kError,
   };
   // Reads on until the next scan whose odometry is known, or the end.
   Status next(RawlogScan* out);
 
   const RawlogCounts& counts() const;
   RawlogFormat format() const;
-  // Why reading stopped early (kTruncated / kError), one line; empty otherwise.
+  // Why reading stopped early (kTruncated / kError), one line without bytes of the file;
+  // empty otherwise.
   const std::string& message() const;
   // Things the caller should pass on to the user (skipped scans, mixed odometry sources, time
   // going backwards).
