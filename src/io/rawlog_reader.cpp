@@ -401,6 +401,14 @@ struct RawlogReader::Impl {
       return false;
     }
     const bool checked = check.verdict == detail::Precheck::kOk;
+    if (!checked && !config.allow_unchecked_classes) {
+      fail(Status::kError,
+           "'" + path + "' holds a " + check.why + " at rawlog entry " + std::to_string(entry) +
+               ", a class whose length fields the reader does not check before MRPT allocates "
+               "for them (keep only the laser and odometry with rawlog-edit --keep-label, or "
+               "allow unchecked classes)");
+      return false;
+    }
     if (!checked) ++counts.unchecked_entries;
     const std::string what = checked ? "an entry" : "a " + check.why;  // the class not checked
 

@@ -348,14 +348,20 @@ TEST(RawlogCorruption, ImpossibleOdometry) {
   EXPECT_EQ(readBytes(frameLog(20.0, 2), config).status, RawlogReader::Status::kEnd);
 }
 
-// An observation of a class the pre-check does not know (here a comment) is left to MRPT and
-// ignored; the scans around it still come out.
-TEST(RawlogCorruption, OtherObservationClassesAreReadUnchecked) {
+// An observation of a class the pre-check does not know (here a comment) stops reading, unless
+// unchecked classes are allowed: then MRPT reads it, the reader ignores it and the scans around it
+// still come out.
+TEST(RawlogCorruption, OtherObservationClassesOnlyWhenAllowed) {
   mrpt::obs::CObservationComment comment;
   comment.text = "hello";
   Bytes b;
   b << odometry(10.0, 0.0) << comment << scan(10.0) << odometry(11.0, 1.0);
-  const Outcome o = readBytes(b.str());
+  const Outcome strict = readBytes(b.str());
+  expectCorrupt(strict, "holds a mrpt::obs::CObservationComment at rawlog entry 2");
+  expectCorrupt(strict, "rawlog-edit --keep-label");
+  RawlogReaderConfig config;
+  config.allow_unchecked_classes = true;
+  const Outcome o = readBytes(b.str(), config);
   EXPECT_EQ(o.status, RawlogReader::Status::kEnd) << o.message;
   EXPECT_EQ(o.scans, 1u);
   EXPECT_EQ(o.counts.unchecked_entries, 1u);

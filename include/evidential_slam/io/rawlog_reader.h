@@ -42,6 +42,10 @@ struct RawlogReaderConfig {
   // (bounds memory on a log whose odometry stops).
   size_t max_pending_scans = 256;
   RawlogLimits limits;
+  // Objects of classes whose fields the reader does not check (other sensors: images, GPS, IMU,
+  // beacons; 3-D odometry; non-Gaussian motion PDFs) are left to MRPT's own reading when true,
+  // which allocates whatever their length fields ask; when false they stop reading (kError).
+  bool allow_unchecked_classes = false;
 };
 
 // One scan of the log with the odometry at its stamp.
@@ -65,8 +69,8 @@ struct RawlogCounts {
   uint64_t scans_out_of_order = 0;
   uint64_t odometry_out_of_order = 0;
   uint64_t other_observations = 0;  // observations of other classes or labels, ignored
-  // Entries holding a class whose layout the reader does not check before MRPT reads it (an
-  // observation of another sensor, e.g. a camera image); MRPT's own checks apply to them.
+  // Entries holding a class whose layout the reader does not check, read by MRPT alone
+  // (allow_unchecked_classes).
   uint64_t unchecked_entries = 0;
 };
 
