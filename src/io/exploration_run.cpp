@@ -12,6 +12,7 @@
 #include "evidential_slam/core/exploration/coverage.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/core/slam_engine.h"
+#include "evidential_slam/io/atomic_files.h"
 
 namespace evidential_slam {
 namespace io {
@@ -161,12 +162,8 @@ bool writeExplorationJson(const std::string& path, const ExplorationRunResult& r
                 {"no_path", r.explorer_stats.goals_no_path},
                 {"no_progress", r.explorer_stats.goals_no_progress},
                 {"replans", r.explorer_stats.replans}};
-  std::ofstream out(path);
-  if (!out || !(out << j.dump(2) << '\n')) {
-    if (error != nullptr) *error = "cannot write '" + path + "'";
-    return false;
-  }
-  return true;
+  return writeFileAtomically(
+      path, [&](std::ostream& out) { return static_cast<bool>(out << j.dump(2) << '\n'); }, error);
 }
 
 }  // namespace io

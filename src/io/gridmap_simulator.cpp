@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -14,6 +16,7 @@
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -24,6 +27,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/error_text.h"
 
 namespace evidential_slam {
@@ -621,13 +625,36 @@ struct SimulationRecorder::Impl {
   mrpt::io::CFileGZOutputStream rawlog;
   std::ofstream truth;
   std::string rawlog_path, truth_path, label;
+  AtomicFiles files;  // both files, under temporary names until close()
+  std::string rawlog_temp;
   uint64_t written = 0;
   bool open = false;
+
+  void abandon() {
+    rawlog.close();
+    truth.close();
+    files.abandon();
+    open = false;
+  }
+  // gzip output whose final flush failed is cut short: it must decompress to every byte written.
+  bool rawlogReadsBack(uint64_t bytes) const {
+    mrpt::io::CFileGZInputStream in;
+    if (!in.open(rawlog_temp)) return false;
+    std::vector<char> buffer(1 << 16);
+    uint64_t total = 0;
+    for (;;) {
+      const size_t n = in.Read(buffer.data(), buffer.size());
+      if (n > buffer.size()) return false;  // a zlib error
+      if (n == 0) break;
+      total += n;
+    }
+    return total == bytes;
+  }
 };
 
 SimulationRecorder::SimulationRecorder() : impl_(std::make_unique<Impl>()) {}
 SimulationRecorder::~SimulationRecorder() {
-  if (impl_->open) close(nullptr);
+  if (impl_->open) impl_->abandon();
 }
 
 bool SimulationRecorder::open(const std::string& rawlog_path, const std::string& laser_label,
@@ -636,21 +663,30 @@ bool SimulationRecorder::open(const std::string& rawlog_path, const std::string&
   d.rawlog_path = rawlog_path;
   d.truth_path = groundTruthPathFor(rawlog_path);
   d.label = laser_label;
-  std::string why;
+  std::string why, truth_temp;
+  if (!d.files.reserve(rawlog_path, &d.rawlog_temp, &why) ||
+      !d.files.reserve(d.truth_path, &truth_temp, &why)) {
+    if (error) *error = why;
+    return false;
+  }
   bool opened = false;
   try {
-    opened = d.rawlog.open(rawlog_path, 1, why);
+    opened = d.rawlog.open(d.rawlog_temp, 1, why);
   } catch (const std::exception& e) {
     why = e.what();
   }
   if (!opened) {
-    if (error)
-      *error = "cannot write rawlog '" + rawlog_path + "'" + (why.empty() ? "" : ": " + why);
+    d.files.abandon();
+    if (error) {
+      *error = "cannot write rawlog '" + rawlog_path + "'" +
+               (why.empty() ? "" : ": " + oneLineMessage(why));
+    }
     return false;
   }
-  d.truth.open(d.truth_path, std::ios::trunc);
+  d.truth.open(truth_temp, std::ios::trunc);
   if (!d.truth) {
     d.rawlog.close();
+    d.files.abandon();
     if (error) *error = "cannot write ground truth '" + d.truth_path + "'";
     return false;
   }
@@ -690,11 +726,15 @@ bool SimulationRecorder::write(const SimulatedScan& s, std::string* error) {
   mrpt::obs::CSensoryFrame frame;
   frame.insert(obs);
 
+  errno = 0;  // what the failing write leaves here is the reason
   try {
     auto archive = mrpt::serialization::archiveFrom(d.rawlog);
     archive << actions << frame;
   } catch (const std::exception& e) {
-    if (error) *error = "cannot write rawlog '" + d.rawlog_path + "': " + e.what();
+    if (error) {
+      *error = "cannot write rawlog '" + d.rawlog_path + "': " + oneLineMessage(e.what()) +
+               (errno != 0 ? " (" + std::string(std::strerror(errno)) + ")" : "");
+    }
     return false;
   }
   d.truth << s.stamp << ' ' << s.true_pose.x << ' ' << s.true_pose.y << ' ' << s.true_pose.theta
@@ -710,14 +750,21 @@ bool SimulationRecorder::write(const SimulatedScan& s, std::string* error) {
 bool SimulationRecorder::close(std::string* error) {
   Impl& d = *impl_;
   if (!d.open) return true;
-  d.open = false;
+  const uint64_t bytes = d.rawlog.getPosition();
   d.rawlog.close();
   d.truth.close();
+  d.open = false;
   if (!d.truth) {
+    d.files.abandon();
     if (error) *error = "cannot finish ground truth '" + d.truth_path + "'";
     return false;
   }
-  return true;
+  if (!d.rawlogReadsBack(bytes)) {
+    d.files.abandon();
+    if (error) *error = "cannot finish rawlog '" + d.rawlog_path + "' (disk full?)";
+    return false;
+  }
+  return d.files.commit(error);
 }
 
 uint64_t SimulationRecorder::written() const { return impl_->written; }

@@ -10,6 +10,7 @@
 #include <mrpt/img/CImage.h>
 #include <Eigen/Core>
 
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/npy.h"
 
 namespace evidential_slam {
@@ -30,17 +31,26 @@ ByteImage northUp(const LayerRaster& raster, F&& pixel_of_index) {
   return img;
 }
 
-// Saves in the format of the file's extension (PNG, PGM).
-bool saveImage(const mrpt::img::CImage& img, const std::string& path, std::string* error) {
-  bool ok = false;
-  try {
-    ok = img.saveToFile(path);
-  } catch (const std::exception& e) {
-    if (error) *error = "cannot write '" + path + "': " + e.what();
-    return false;
+// True when the file at `path` is complete: a PNG ends with its IEND chunk (OpenCV does not report
+// a failed final flush, which leaves the file cut short); other formats are decoded back.
+bool imageComplete(const std::string& path, const mrpt::img::CImage& written) {
+  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0) {
+    static const char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', '\xae', '\x42', '\x60', '\x82'};
+    std::ifstream in(path, std::ios::binary);
+    char tail[12];
+    return in.seekg(-12, std::ios::end) && in.read(tail, 12) && std::equal(tail, tail + 12, kIend);
   }
-  if (!ok && error) *error = "cannot write '" + path + "'";
-  return ok;
+  mrpt::img::CImage back;
+  return back.loadFromFile(path) && back.getWidth() == written.getWidth() &&
+         back.getHeight() == written.getHeight();
+}
+
+// Stages `img` as `path` in the format of its extension (PNG, PGM).
+bool stageImage(const mrpt::img::CImage& img, const std::string& path, AtomicFiles* files,
+                std::string* error) {
+  return files->addByPath(
+      path, [&](const std::string& temp) { return img.saveToFile(temp); },
+      [&](const std::string& temp) { return imageComplete(temp, img); }, error);
 }
 
 // Scale of each layer's PNG. Masses, BetP, NS, IC and H live in [0, 1] (IC and H in bits over a
@@ -101,9 +111,11 @@ uint8_t layerPixel(float value, const LayerImageScale& scale) {
 }
 
 bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
-                 LayerWriteResult* result, std::string* error) {
+                 LayerWriteResult* result, std::string* error, AtomicFiles* staged) {
   *result = LayerWriteResult();
   if (!checkSizes(raster, error)) return false;
+  AtomicFiles own;
+  AtomicFiles* files = staged ? staged : &own;
   const size_t cells = static_cast<size_t>(raster.width) * raster.height;
   const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
 
@@ -117,11 +129,16 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
     mrpt::img::CImage img;
     img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
     const std::string png = base + layerNames()[l] + ".png";
-    if (!saveImage(img, png, error)) return false;
+    if (!stageImage(img, png, files, error)) return false;
     result->files.push_back(png);
 
     const std::string npy = base + layerNames()[l] + ".npy";
-    if (!writeNpy(npy, v.data(), raster.height, raster.width, error)) return false;
+    if (!files->add(
+            npy,
+            [&](std::ostream& out) { return writeNpy(out, v.data(), raster.height, raster.width); },
+            error)) {
+      return false;
+    }
     result->files.push_back(npy);
   }
 
@@ -141,7 +158,7 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
     img.loadFromMemoryBuffer(raster.width, raster.height, raster.width, red.data(), green.data(),
                              blue.data());
     const std::string png = base + "composite.png";
-    if (!saveImage(img, png, error)) return false;
+    if (!stageImage(img, png, files, error)) return false;
     result->files.push_back(png);
   }
 
@@ -149,50 +166,62 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
     std::vector<uint8_t> observed = raster.observed;
     if (observed.size() != cells) observed.assign(cells, 0);
     const std::string npy = base + "observed.npy";
-    if (!writeNpy(npy, observed.data(), raster.height, raster.width, error)) return false;
+    if (!files->add(
+            npy,
+            [&](std::ostream& out) {
+              return writeNpy(out, observed.data(), raster.height, raster.width);
+            },
+            error)) {
+      return false;
+    }
     result->files.push_back(npy);
   }
 
   const std::string yaml_path = base + "map.yaml";
-  std::ofstream yaml(yaml_path);
-  yaml << "# map_server metadata: pignistic.png holds BetP(o), dark = occupied.\n"
-       << "image: pignistic.png\n"
-       << "resolution: " << fmt(raster.resolution) << "\n"
-       << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
-       << "negate: 0\n"
-       << "occupied_thresh: " << fmt(config.occupied_thresh) << "\n"
-       << "free_thresh: " << fmt(config.free_thresh) << "\n"
-       << "# evidential_slam extras (map_server ignores them).\n"
-       << "width: " << raster.width << "\n"
-       << "height: " << raster.height << "\n"
-       << "png_layout: \"north-up 8-bit grey (image row 0 = highest y); grey = 255 * (1 - "
-          "clamp((v - png_white) / (png_black - png_white), 0, 1)), so png_black is drawn black\"\n"
-       << "npy_layout: \"float32 '<f4', shape (height, width), C order, row 0 = lowest y, col 0 = "
-          "lowest x (nav_msgs/OccupancyGrid order); observed.npy is uint8, 1 = cell has "
-          "evidence\"\n"
-       << "composite: {image: composite.png, red: occupied, green: free, blue: unknown}\n"
-       << "external_conflict_scale: " << fmt(result->external_conflict_scale) << "\n"
-       << "layers:\n";
-  for (int l = 0; l < kLayerCount; ++l) {
-    const LayerImageScale& s = result->scales[l];
-    yaml << "  " << s.name << ": {image: " << s.name << ".png, npy: " << s.name
-         << ".npy, png_white: " << fmt(s.white) << ", png_black: " << fmt(s.black)
-         << ", min: " << fmt(s.min_value) << ", max: " << fmt(s.max_value) << "}\n";
-  }
-  yaml.close();
-  if (!yaml) {
-    if (error) *error = "cannot write '" + yaml_path + "'";
-    return false;
-  }
+  const bool yaml_ok = files->add(
+      yaml_path,
+      [&](std::ostream& yaml) {
+        yaml << "# map_server metadata: pignistic.png holds BetP(o), dark = occupied.\n"
+             << "image: pignistic.png\n"
+             << "resolution: " << fmt(raster.resolution) << "\n"
+             << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
+             << "negate: 0\n"
+             << "occupied_thresh: " << fmt(config.occupied_thresh) << "\n"
+             << "free_thresh: " << fmt(config.free_thresh) << "\n"
+             << "# evidential_slam extras (map_server ignores them).\n"
+             << "width: " << raster.width << "\n"
+             << "height: " << raster.height << "\n"
+             << "png_layout: \"north-up 8-bit grey (image row 0 = highest y); grey = 255 * (1 - "
+                "clamp((v - png_white) / (png_black - png_white), 0, 1)), so png_black is drawn "
+                "black\"\n"
+             << "npy_layout: \"float32 '<f4', shape (height, width), C order, row 0 = lowest y, "
+                "col 0 = lowest x (nav_msgs/OccupancyGrid order); observed.npy is uint8, 1 = "
+                "cell has evidence\"\n"
+             << "composite: {image: composite.png, red: occupied, green: free, blue: unknown}\n"
+             << "external_conflict_scale: " << fmt(result->external_conflict_scale) << "\n"
+             << "layers:\n";
+        for (int l = 0; l < kLayerCount; ++l) {
+          const LayerImageScale& s = result->scales[l];
+          yaml << "  " << s.name << ": {image: " << s.name << ".png, npy: " << s.name
+               << ".npy, png_white: " << fmt(s.white) << ", png_black: " << fmt(s.black)
+               << ", min: " << fmt(s.min_value) << ", max: " << fmt(s.max_value) << "}\n";
+        }
+        return static_cast<bool>(yaml);
+      },
+      error);
+  if (!yaml_ok) return false;
   result->files.push_back(yaml_path);
-  return true;
+  return staged || own.commit(error);
 }
 
 bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
                           const LayerWriterConfig& config, std::vector<std::string>* files,
-                          std::string* error) {
+                          std::string* error, AtomicFiles* staged) {
   if (!checkSizes(raster, error)) return false;
+  AtomicFiles own;
+  AtomicFiles* set = staged ? staged : &own;
   const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  std::vector<std::string> written;
   for (int l = 0; l < kLayerCount; ++l) {
     const Layer layer = static_cast<Layer>(l);
     const std::vector<float>& v = raster.values[l];
@@ -201,28 +230,31 @@ bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
     img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
     const std::string name = layerNames()[l];
     const std::string pgm = base + name + ".pgm";
-    if (!saveImage(img, pgm, error)) return false;
-    files->push_back(pgm);
+    if (!stageImage(img, pgm, set, error)) return false;
+    written.push_back(pgm);
 
     const bool pignistic = layer == Layer::kPignistic;
     const std::string yaml_path = base + name + ".yaml";
-    std::ofstream yaml(yaml_path);
-    yaml << "# evidential_slam layer '" << name << "' for map_server: dark = high value; pixel "
-         << "black = " << fmt(scale.black) << ", white = " << fmt(scale.white) << "\n"
-         << "image: " << name << ".pgm\n"
-         << "resolution: " << fmt(raster.resolution) << "\n"
-         << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
-         << "negate: 0\n"
-         << "mode: " << (pignistic ? "trinary" : "scale") << "\n"
-         << "occupied_thresh: " << fmt(pignistic ? config.occupied_thresh : 1.0) << "\n"
-         << "free_thresh: " << fmt(pignistic ? config.free_thresh : 0.0) << "\n";
-    yaml.close();
-    if (!yaml) {
-      if (error) *error = "cannot write '" + yaml_path + "'";
-      return false;
-    }
-    files->push_back(yaml_path);
+    const bool yaml_ok = set->add(
+        yaml_path,
+        [&](std::ostream& yaml) {
+          yaml << "# evidential_slam layer '" << name << "' for map_server: dark = high value; "
+               << "pixel black = " << fmt(scale.black) << ", white = " << fmt(scale.white) << "\n"
+               << "image: " << name << ".pgm\n"
+               << "resolution: " << fmt(raster.resolution) << "\n"
+               << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
+               << "negate: 0\n"
+               << "mode: " << (pignistic ? "trinary" : "scale") << "\n"
+               << "occupied_thresh: " << fmt(pignistic ? config.occupied_thresh : 1.0) << "\n"
+               << "free_thresh: " << fmt(pignistic ? config.free_thresh : 0.0) << "\n";
+          return static_cast<bool>(yaml);
+        },
+        error);
+    if (!yaml_ok) return false;
+    written.push_back(yaml_path);
   }
+  if (!staged && !own.commit(error)) return false;
+  files->insert(files->end(), written.begin(), written.end());
   return true;
 }
 

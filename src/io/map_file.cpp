@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/build_info.h"
 
 namespace evidential_slam {
@@ -551,26 +552,14 @@ bool writeMapFile(const std::string& path, const EvidentialGridMap& map, const M
                   std::string* error, MapFileStats* stats) {
   std::string bytes, why;
   if (!encodeMapFile(map, info, &bytes, &why, stats)) return fail(error, path + ": " + why);
-  const std::string temporary = path + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) return fail(error, path + ": cannot write " + temporary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      return fail(error, path + ": error writing " + temporary);
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    return fail(error, path + ": cannot rename " + temporary + " to it (" + ec.message() + ")");
-  }
-  return true;
+  // Temporary name, fsync, rename (atomic_files.h): a failed write leaves the previous map.
+  return writeFileAtomically(
+      path,
+      [&](std::ostream& out) {
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        return static_cast<bool>(out);
+      },
+      error);
 }
 
 bool readMapFile(const std::string& path, EvidentialGridMap* map, MapFileInfo* info,

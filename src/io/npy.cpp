@@ -6,6 +6,8 @@
 #include <fstream>
 #include <regex>
 
+#include "evidential_slam/io/atomic_files.h"
+
 namespace evidential_slam {
 namespace io {
 namespace {
@@ -13,12 +15,9 @@ namespace {
 constexpr char kMagic[] = "\x93NUMPY";
 constexpr size_t kMagicLen = 6;
 
-bool writeRaw(const std::string& path, const char* descr, const void* data, size_t bytes, int rows,
-              int cols, std::string* error) {
-  if (rows < 0 || cols < 0) {
-    if (error) *error = "negative array shape for '" + path + "'";
-    return false;
-  }
+bool writeRaw(std::ostream& out, const char* descr, const void* data, size_t bytes, int rows,
+              int cols) {
+  if (rows < 0 || cols < 0) return false;
   std::string header = std::string("{'descr': '") + descr +
                        "', 'fortran_order': False, 'shape': (" + std::to_string(rows) + ", " +
                        std::to_string(cols) + "), }";
@@ -26,11 +25,6 @@ bool writeRaw(const std::string& path, const char* descr, const void* data, size
   const size_t total = ((preamble + header.size() + 1 + 63) / 64) * 64;
   header.append(total - preamble - header.size() - 1, ' ');
   header.push_back('\n');
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) {
-    if (error) *error = "cannot write '" + path + "'";
-    return false;
-  }
   const uint16_t len = static_cast<uint16_t>(header.size());
   const char version_and_len[4] = {1, 0, static_cast<char>(len & 0xff),
                                    static_cast<char>(len >> 8)};
@@ -38,11 +32,7 @@ bool writeRaw(const std::string& path, const char* descr, const void* data, size
   out.write(version_and_len, 4);
   out.write(header.data(), static_cast<std::streamsize>(header.size()));
   out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
-  if (!out) {
-    if (error) *error = "error writing '" + path + "'";
-    return false;
-  }
-  return true;
+  return static_cast<bool>(out);
 }
 
 bool littleEndianHost() {
@@ -54,19 +44,37 @@ bool littleEndianHost() {
 
 }  // namespace
 
-bool writeNpy(const std::string& path, const float* data, int rows, int cols, std::string* error) {
+bool writeNpy(std::ostream& out, const float* data, int rows, int cols) {
   static_assert(sizeof(float) == 4, "float32 expected");
+  if (!littleEndianHost()) return false;  // the payload is written as it is in memory
+  return writeRaw(out, "<f4", data, sizeof(float) * static_cast<size_t>(rows) * cols, rows, cols);
+}
+
+bool writeNpy(std::ostream& out, const uint8_t* data, int rows, int cols) {
+  return writeRaw(out, "|u1", data, static_cast<size_t>(rows) * cols, rows, cols);
+}
+
+bool writeNpy(const std::string& path, const float* data, int rows, int cols, std::string* error) {
   if (!littleEndianHost()) {
     if (error) *error = "big-endian hosts are not supported by the .npy writer";
     return false;
   }
-  return writeRaw(path, "<f4", data, sizeof(float) * static_cast<size_t>(rows) * cols, rows, cols,
-                  error);
+  if (rows < 0 || cols < 0) {
+    if (error) *error = "negative array shape for '" + path + "'";
+    return false;
+  }
+  return writeFileAtomically(
+      path, [&](std::ostream& out) { return writeNpy(out, data, rows, cols); }, error);
 }
 
 bool writeNpy(const std::string& path, const uint8_t* data, int rows, int cols,
               std::string* error) {
-  return writeRaw(path, "|u1", data, static_cast<size_t>(rows) * cols, rows, cols, error);
+  if (rows < 0 || cols < 0) {
+    if (error) *error = "negative array shape for '" + path + "'";
+    return false;
+  }
+  return writeFileAtomically(
+      path, [&](std::ostream& out) { return writeNpy(out, data, rows, cols); }, error);
 }
 
 size_t NpyArray::elementCount() const {

@@ -1,14 +1,15 @@
 // summary.json through nlohmann::json (keys keep the order below). See summary.h.
 #include "evidential_slam/io/summary.h"
 
-#include <fstream>
-
 #include <nlohmann/json.hpp>
+
+#include "evidential_slam/io/atomic_files.h"
 
 namespace evidential_slam {
 namespace io {
 
-bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string* error) {
+bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string* error,
+                      AtomicFiles* files) {
   nlohmann::ordered_json j;
   j["rawlog"] = s.rawlog;
   j["rawlog_format"] = s.rawlog_format;
@@ -88,19 +89,12 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
     j["octomap"] = o;
   }
 
-  std::ofstream out(path);
-  if (!out) {
-    if (error) *error = "cannot write '" + path + "'";
-    return false;
-  }
   // Invalid UTF-8 in a path or message is replaced rather than thrown.
-  out << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
-  out.close();
-  if (!out) {
-    if (error) *error = "error writing '" + path + "'";
-    return false;
-  }
-  return true;
+  const std::string text =
+      j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+  auto write = [&](std::ostream& out) { return static_cast<bool>(out << text); };
+  if (files) return files->add(path, write, error);
+  return writeFileAtomically(path, write, error);
 }
 
 }  // namespace io

@@ -4,31 +4,29 @@
 #include <cinttypes>
 #include <cstdio>
 #include <fstream>
-#include <memory>
 #include <sstream>
 
 #include <Eigen/Geometry>
+
+#include "evidential_slam/io/atomic_files.h"
 
 namespace evidential_slam {
 namespace io {
 
 bool writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses,
-                        std::string* error) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "w"), &std::fclose);
-  if (!f) {
-    if (error) *error = "cannot write '" + path + "'";
-    return false;
-  }
-  for (const StampedPose& sp : poses) {
-    const Eigen::Quaterniond q(Eigen::AngleAxisd(sp.pose.theta, Eigen::Vector3d::UnitZ()));
-    std::fprintf(f.get(), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", sp.stamp, sp.pose.x,
-                 sp.pose.y, 0.0, q.x(), q.y(), q.z(), q.w());
-  }
-  if (std::ferror(f.get()) != 0) {
-    if (error) *error = "error writing '" + path + "'";
-    return false;
-  }
-  return true;
+                        std::string* error, AtomicFiles* files) {
+  auto write = [&](std::ostream& out) {
+    char line[200];
+    for (const StampedPose& sp : poses) {
+      const Eigen::Quaterniond q(Eigen::AngleAxisd(sp.pose.theta, Eigen::Vector3d::UnitZ()));
+      std::snprintf(line, sizeof(line), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", sp.stamp,
+                    sp.pose.x, sp.pose.y, 0.0, q.x(), q.y(), q.z(), q.w());
+      out << line;
+    }
+    return static_cast<bool>(out);
+  };
+  if (files) return files->add(path, write, error);
+  return writeFileAtomically(path, write, error);
 }
 
 bool readTumTrajectory(const std::string& path, std::vector<StampedPose>* poses,

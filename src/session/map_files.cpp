@@ -2,10 +2,10 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <system_error>
 
 #include "evidential_slam/core/layers.h"
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/layer_writer.h"
 #include "evidential_slam/io/octomap_export.h"
 #include "evidential_slam/io/trajectory_io.h"
@@ -27,24 +27,26 @@ bool makeDirectory(const fs::path& dir, std::string* error) {
 }
 
 bool writeConflictCsv(const std::string& path, const std::vector<ConflictRecord>& rows,
-                      std::string* error) {
-  std::ofstream f(path);
-  f << "# per processed scan: stamp (s), the external conflict (bits) and the conflict mass m(0) "
-       "(summed over cells) it added to the best map, the part of that mass added in the map's "
-       "open space (the alarm's input), the alarm's running baseline of it, their ratio, alarm "
-       "(1 = above threshold)\n"
-    << "stamp,ec_added_bits,conflict_mass_added,open_space_conflict_added,baseline,ratio,alarm\n";
-  char line[200];
-  for (const ConflictRecord& r : rows) {
-    std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", r.stamp,
-                  r.ec_added_bits, r.conflict_mass_added, r.alarm.added, r.alarm.baseline,
-                  r.alarm.ratio, r.alarm.alarm ? 1 : 0);
-    f << line;
-  }
-  f.close();
-  if (f) return true;
-  if (error != nullptr) *error = "cannot write '" + path + "'";
-  return false;
+                      io::AtomicFiles* files, std::string* error) {
+  return files->add(
+      path,
+      [&](std::ostream& f) {
+        f << "# per processed scan: stamp (s), the external conflict (bits) and the conflict mass "
+             "m(0) (summed over cells) it added to the best map, the part of that mass added in "
+             "the map's open space (the alarm's input), the alarm's running baseline of it, their "
+             "ratio, alarm (1 = above threshold)\n"
+          << "stamp,ec_added_bits,conflict_mass_added,open_space_conflict_added,baseline,ratio,"
+             "alarm\n";
+        char line[200];
+        for (const ConflictRecord& r : rows) {
+          std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", r.stamp,
+                        r.ec_added_bits, r.conflict_mass_added, r.alarm.added, r.alarm.baseline,
+                        r.alarm.ratio, r.alarm.alarm ? 1 : 0);
+          f << line;
+        }
+        return static_cast<bool>(f);
+      },
+      error);
 }
 
 }  // namespace
@@ -73,8 +75,10 @@ MapSave captureMapSave(const MappingSession& session) {
 }
 
 bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionConfig& config,
-                   MapFilesReport* report, std::string* error) {
+                   MapFilesReport* report, std::string* error, io::AtomicFiles* staged) {
   *report = MapFilesReport();
+  io::AtomicFiles own;
+  io::AtomicFiles* files = staged != nullptr ? staged : &own;
   const fs::path root(dir);
   const fs::path layers_dir = root / "layers";
   if (!makeDirectory(layers_dir, error)) return false;
@@ -85,10 +89,10 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
   report->files.push_back(evmap);
   report->map_file = evmap;
   const std::string tum = (root / "trajectory.tum").string();
-  if (!io::writeTumTrajectory(tum, save.trajectory, error)) return false;
+  if (!io::writeTumTrajectory(tum, save.trajectory, error, files)) return false;
   report->files.push_back(tum);
   const std::string csv = (root / "conflict.csv").string();
-  if (!writeConflictCsv(csv, save.conflicts, error)) return false;
+  if (!writeConflictCsv(csv, save.conflicts, files, error)) return false;
   report->files.push_back(csv);
 
   const EvidentialGridMap& map = save.map;
@@ -97,9 +101,9 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
   layer_config.occupied_thresh = config.occupied_thresh;
   layer_config.free_thresh = config.free_thresh;
   io::LayerWriteResult written;
-  if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error) ||
+  if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error, files) ||
       !io::writeMapServerLayers(raster, layers_dir.string(), layer_config, &report->files,
-                                error)) {
+                                error, files)) {
     return false;
   }
   report->files.insert(report->files.end(), written.files.begin(), written.files.end());
@@ -114,7 +118,8 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
     octomap_config.z_min = config.octomap_z_min;
     octomap_config.z_max = config.octomap_z_max;
     io::OctomapExportResult result;
-    if (!io::exportOctomap(map, octomap_config, (octomap_dir / "map").string(), &result, error)) {
+    if (!io::exportOctomap(map, octomap_config, (octomap_dir / "map").string(), &result, error,
+                           files)) {
       return false;
     }
     OctomapFilesReport octomap;
@@ -128,7 +133,7 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
     octomap.voxels = result.voxels;
     report->octomap = octomap;
   }
-  return true;
+  return staged != nullptr || own.commit(error);
 }
 
 bool loadMapFile(const std::string& path, LoadedMap* out, std::string* error) {

@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "evidential_slam/core/metrics.h"
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/ground_truth.h"
@@ -70,6 +71,7 @@ class Run {
   std::vector<StampedPose> truth_;
   std::vector<StampedPose> odometry_path_;
   fs::path out_dir_;
+  AtomicFiles outputs_;  // every output file, staged until the run has written them all
 };
 
 bool Run::startSession(MappingSession* session, const LoadedMap& loaded, const std::string& source,
@@ -286,7 +288,7 @@ int Run::execute() {
   }
 
   MapFilesReport files;
-  if (!writeMapFiles(out_dir_.string(), save, opt_.params.session, &files, &why)) {
+  if (!writeMapFiles(out_dir_.string(), save, opt_.params.session, &files, &why, &outputs_)) {
     return fail(kExitBadInput, why);
   }
   summary_.map_file = MapFileSummary{fs::path(files.map_file).lexically_relative(out_dir_).string(),
@@ -316,7 +318,10 @@ int Run::execute() {
   summary_.peak_rss_mb = peakRssMb();
   const std::string summary_path = (out_dir_ / "summary.json").string();
   summary_.outputs.push_back("summary.json");
-  if (!writeSummaryJson(summary_path, summary_, &why)) return fail(kExitBadInput, why);
+  // Every output replaces the previous run's only now, all together (atomic_files.h).
+  if (!writeSummaryJson(summary_path, summary_, &why, &outputs_) || !outputs_.commit(&why)) {
+    return fail(kExitBadInput, why);
+  }
 
   std::fprintf(out_, "scans:      %llu read, %llu processed, %llu rejected%s\n",
                static_cast<unsigned long long>(given),

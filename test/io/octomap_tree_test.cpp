@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 
+#include "child_process.h"
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/io/evidential_octree.h"
 #include "evidential_slam/io/octomap_export.h"
@@ -381,6 +382,38 @@ TEST(OctomapExport, RefusesBadConfigAndUnwritableOutput) {
   updateCell(far.mutableCell(40000, 0), ScanMass{0.0f, 0.8f});
   EXPECT_FALSE(exportOctomap(far, OctomapExportConfig(), (dir / "far").string(), &result, &error));
   EXPECT_NE(error.find("range"), std::string::npos) << error;
+}
+
+// The three files replace the old ones together: an export that fails on the second (here no
+// file may grow past 64 kB, as on a full disk) leaves all three old files as they were.
+TEST(OctomapExport, AFailedExportLeavesThePreviousFiles) {
+  const fs::path dir = test::scratchDir();
+  const std::string prefix = (dir / "map").string();
+  EvidentialGridMap small(0.05);
+  updateCell(small.mutableCell(0, 0), ScanMass{0.0f, 0.8f});
+  OctomapExportResult result;
+  std::string error;
+  ASSERT_TRUE(exportOctomap(small, OctomapExportConfig(), prefix, &result, &error)) << error;
+  std::vector<std::string> before;
+  for (const auto& f : result.files) before.push_back(test::readText(f.path));
+  const EvidentialGridMap big = test::makeTestGrid();
+  OctomapExportConfig thick;
+  thick.z_max = 0.5;  // 11 layers: the evidential tree is far above 64 kB
+  const int status = test::runInChild(
+      [&] {
+        OctomapExportResult r;
+        std::string why;
+        if (exportOctomap(big, thick, prefix, &r, &why)) return 1;
+        return why.find("': File too large") != std::string::npos ? 0 : 2;
+      },
+      64 * 1024);
+  EXPECT_EQ(status, 0);
+  for (size_t i = 0; i < result.files.size(); ++i) {
+    EXPECT_TRUE(test::readText(result.files[i].path) == before[i]) << result.files[i].path;
+  }
+  size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir)) entries += e.is_regular_file();
+  EXPECT_EQ(entries, 3u) << "temporary files left behind";
 }
 
 // ---- bad files ------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 // outputs and the value ranges of every layer.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -46,8 +47,11 @@ std::string quote(const std::string& s) {
   return q + "'";
 }
 
-Result runOffline(const std::vector<std::string>& args, const fs::path& scratch) {
-  std::string cmd = quote(ES_OFFLINE_BIN);
+// `prefix` goes before the command (a shell command ending in `exec` or a launcher such as
+// prlimit).
+Result runOffline(const std::vector<std::string>& args, const fs::path& scratch,
+                  const std::string& prefix = "") {
+  std::string cmd = prefix + quote(ES_OFFLINE_BIN);
   for (const auto& a : args) cmd += " " + quote(a);
   const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
   cmd += " > " + quote(out.string()) + " 2> " + quote(err.string()) + " < /dev/null";
@@ -259,6 +263,54 @@ TEST_F(OfflineE2E, CorruptLogIsBadInput) {
     EXPECT_LT(seconds, 10.0);
     EXPECT_FALSE(fs::exists(out / "summary.json"));
   }
+}
+
+// Name -> size and hash of every file under `dir`.
+std::map<std::string, std::pair<size_t, size_t>> digest(const fs::path& dir) {
+  std::map<std::string, std::pair<size_t, size_t>> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string content = test::readText(e.path());
+    files[e.path().lexically_relative(dir).string()] = {content.size(),
+                                                        std::hash<std::string>()(content)};
+  }
+  return files;
+}
+
+// A run whose outputs cannot be written (a full disk: here no file may grow past 100 kB; an
+// unwritable directory) exits 2 with the reason, and leaves the previous run's files as they were
+// and no temporary file: every output replaces the old one only once all are written.
+TEST_F(OfflineE2E, AFailedSaveKeepsThePreviousRun) {
+  const fs::path out = scratch_ / "out";
+  const std::vector<std::string> base = {"--rawlog",   dataPath("sim.rawlog"), "--out",
+                                         out.string(), "--export-octomap",     "--quiet"};
+  Result r = runOffline(concat(concat(base, kFast), {"--max-scans", "40"}), scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto before = digest(out);
+  ASSERT_EQ(before.size(), 3u + 21u + 3u);
+
+  // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing the run.
+  r = runOffline(concat(concat(base, kFast), {"--max-scans", "60"}), scratch_,
+                 "trap '' XFSZ; exec prlimit --fsize=100000 -- ");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("error: cannot write '" + out.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("': File too large"), std::string::npos) << r.err;
+  EXPECT_EQ(digest(out), before);
+
+  // Unwritable directories (as user nobody when the tests run as root, who may write anyway).
+  const auto read_only = fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                         fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec;
+  for (const fs::path& d : {out, out / "layers", out / "octomap"}) fs::permissions(d, read_only);
+  r = runOffline(concat(concat(base, kFast), {"--max-scans", "60"}), scratch_,
+                 geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "");
+  for (const fs::path& d : {out, out / "layers", out / "octomap"}) {
+    fs::permissions(d, fs::perms::owner_all, fs::perm_options::add);
+  }
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("': Permission denied"), std::string::npos) << r.err;
+  EXPECT_EQ(digest(out), before);
 }
 
 TEST_F(OfflineE2E, TruncatedLogStillWritesOutputs) {

@@ -62,6 +62,35 @@ std::vector<std::string> simulateArgs(const fs::path& out) {
           out.string()};
 }
 
+// A simulation whose output cannot be written (no file may grow past 100 kB, as on a full disk)
+// exits 2 with the reason and leaves the previous rawlog and ground truth as they were, with no
+// temporary file beside them.
+TEST(SimulateE2e, AFailedRecordingKeepsThePreviousFiles) {
+  const fs::path dir = test::scratchDir();
+  const fs::path rawlog = dir / "sim.rawlog";
+  ASSERT_EQ(runBinary(ES_SIMULATE_BIN, simulateArgs(rawlog), dir).exit_code, 0);
+  const std::string old_rawlog = test::readText(rawlog);
+  const std::string old_truth = test::readText(dir / "sim.rawlog.GT.txt");
+  ASSERT_GT(old_rawlog.size(), 100000u);
+
+  std::vector<std::string> args = {
+      "-c", "trap '' XFSZ; exec prlimit --fsize=100000 -- \"$0\" \"$@\"", ES_SIMULATE_BIN};
+  for (const std::string& a : simulateArgs(rawlog)) args.push_back(a);
+  args.insert(args.end(), {"--seed", "4"});  // another run: other bytes
+  const ProcessResult r = runBinary("/bin/sh", args, dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("cannot write"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_TRUE(test::readText(rawlog) == old_rawlog);
+  EXPECT_TRUE(test::readText(dir / "sim.rawlog.GT.txt") == old_truth);
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"sim.rawlog", "sim.rawlog.GT.txt", "stderr.txt",
+                                             "stdout.txt"}));
+}
+
 TEST(SimulateE2e, SimulatedRunFeedsTheOfflineRunner) {
   const fs::path dir = test::scratchDir();
   const fs::path rawlog = dir / "sim.rawlog";

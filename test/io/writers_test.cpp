@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "child_process.h"
 #include "evidential_slam/io/layer_writer.h"
 #include "evidential_slam/io/npy.h"
 #include "evidential_slam/io/progress.h"
@@ -22,6 +23,8 @@
 namespace evidential_slam {
 namespace io {
 namespace {
+
+namespace fs = std::filesystem;
 
 // --- a minimal PNG decoder (8-bit grey or RGB, not interlaced) ----------------------------------
 struct Png {
@@ -309,6 +312,65 @@ TEST(LayerWriter, RejectsInconsistentRasterAndBadDirectory) {
   EXPECT_FALSE(
       writeLayers(raster, test::scratchDir().string(), LayerWriterConfig(), &result, &error));
   EXPECT_NE(error.find("conflict"), std::string::npos) << error;
+}
+
+// A 100 x 100 raster of one value in every layer (40 kB per .npy, 10 kB per .pgm).
+LayerRaster uniformRaster(float value) {
+  LayerRaster r;
+  r.resolution = 0.1;
+  r.width = r.height = 100;
+  for (auto& v : r.values) v.assign(100 * 100, value);
+  r.observed.assign(100 * 100, 1);
+  return r;
+}
+
+// Name -> size and a hash of the content of every file in `dir`.
+std::map<std::string, std::pair<size_t, size_t>> contentsOf(const fs::path& dir) {
+  std::map<std::string, std::pair<size_t, size_t>> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string content = test::readText(e.path());
+    files[e.path().filename().string()] = {content.size(), std::hash<std::string>()(content)};
+  }
+  return files;
+}
+
+// A save that fails halfway (here: files may not grow past 20 kB, or 8 kB for the map_server
+// pairs, as on a full disk) leaves every file of the previous save as it was, and no temporary
+// file; the error says why.
+TEST(LayerWriter, AFailedSaveLeavesThePreviousFiles) {
+  const auto dir = test::scratchDir();
+  std::string error;
+  LayerWriteResult result;
+  std::vector<std::string> pairs;
+  ASSERT_TRUE(writeLayers(uniformRaster(0.2f), dir.string(), LayerWriterConfig(), &result, &error))
+      << error;
+  ASSERT_TRUE(
+      writeMapServerLayers(uniformRaster(0.2f), dir.string(), LayerWriterConfig(), &pairs, &error))
+      << error;
+  const auto before = contentsOf(dir);
+  ASSERT_EQ(before.size(), 21u + 18u);
+  for (int writer = 0; writer < 2; ++writer) {
+    const int status = test::runInChild(
+        [&] {
+          std::string why;
+          LayerWriteResult r;
+          std::vector<std::string> files;
+          const bool ok = writer == 0 ? writeLayers(uniformRaster(0.7f), dir.string(),
+                                                    LayerWriterConfig(), &r, &why)
+                                      : writeMapServerLayers(uniformRaster(0.7f), dir.string(),
+                                                             LayerWriterConfig(), &files, &why);
+          if (ok) return 1;
+          // OpenCV's PGM writer reports success over a file cut short: the read-back check
+          // catches it.
+          const std::string reason =
+              writer == 0 ? "': File too large" : "': the file came out incomplete (disk full?)";
+          const bool named = why.find("cannot write '" + dir.string()) == 0;
+          return named && why.find(reason) != std::string::npos ? 0 : 2;
+        },
+        writer == 0 ? 20000 : 8000);
+    EXPECT_EQ(status, 0) << "writer " << writer;
+    EXPECT_EQ(contentsOf(dir), before) << "writer " << writer;
+  }
 }
 
 // map_server pairs: a binary PGM (P5) per layer, north-up, dark = high, and its YAML: trinary

@@ -175,10 +175,13 @@ class SimulationRecorder {
   SimulationRecorder(const SimulationRecorder&) = delete;
   SimulationRecorder& operator=(const SimulationRecorder&) = delete;
 
-  // Creates both files; false with a one-line `error` when they cannot be written.
+  // Starts both files under temporary names beside them; false with a one-line `error` when they
+  // cannot be written.
   bool open(const std::string& rawlog_path, const std::string& laser_label, std::string* error);
   bool write(const SimulatedScan& scan, std::string* error);
-  // Flushes and closes both files.
+  // Finishes both files, checks the rawlog reads back, syncs them and renames them into place
+  // (atomic_files.h). A recorder destroyed before close(), or a close() that fails, leaves any old
+  // files of those names as they were and no temporary files.
   bool close(std::string* error);
   uint64_t written() const;
 

@@ -17,6 +17,8 @@
 namespace evidential_slam {
 namespace io {
 
+class AtomicFiles;
+
 struct LayerWriterConfig {
   double occupied_thresh = 0.65;  // map.yaml (map_server): BetP above this is occupied
   double free_thresh = 0.196;     // and below this free
@@ -41,18 +43,21 @@ struct LayerWriteResult {
 // Grey level of `value` under `scale`: 255 at `white`, 0 at `black`.
 uint8_t layerPixel(float value, const LayerImageScale& scale);
 
-// Writes everything listed above into `dir` (which must exist). False (and `error`) on the first
-// file that cannot be written.
+// Writes everything listed above into `dir` (which must exist). False (and `error`, with the
+// reason) on the first file that cannot be written. The files replace the old ones together, once
+// all are written (atomic_files.h): staged into `files` when given (the caller commits), else
+// committed here; a failed write leaves the old files as they were.
 bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
-                 LayerWriteResult* result, std::string* error);
+                 LayerWriteResult* result, std::string* error, AtomicFiles* files = nullptr);
 
 // Writes every layer as a map_server image + metadata pair: <name>.pgm (north-up, dark = high
 // value, EC scaled by its maximum as above) and <name>.yaml. pignistic.yaml loads in map_server's
 // trinary mode with `config`'s thresholds (an ordinary occupancy map); the other layers load in
 // scale mode with thresholds 1 and 0, so map_server turns a layer value v into about 99 v.
+// Written like writeLayers' files.
 bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
                           const LayerWriterConfig& config, std::vector<std::string>* files,
-                          std::string* error);
+                          std::string* error, AtomicFiles* staged = nullptr);
 
 }  // namespace io
 }  // namespace evidential_slam

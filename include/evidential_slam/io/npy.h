@@ -4,15 +4,20 @@
 #pragma once
 
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
 namespace evidential_slam {
 namespace io {
 
-// Writes a (rows, cols) array, row-major: element (r, c) is data[r * cols + c].
+// Writes a (rows, cols) array, row-major: element (r, c) is data[r * cols + c]. The file is
+// replaced only once complete (atomic_files.h).
 bool writeNpy(const std::string& path, const float* data, int rows, int cols, std::string* error);
 bool writeNpy(const std::string& path, const uint8_t* data, int rows, int cols, std::string* error);
+// The same into a stream (false on a negative shape or a stream error).
+bool writeNpy(std::ostream& out, const float* data, int rows, int cols);
+bool writeNpy(std::ostream& out, const uint8_t* data, int rows, int cols);
 
 // What readNpy found: dtype descriptor ('<f4', '|u1', ...), shape and the raw payload bytes.
 struct NpyArray {

@@ -18,6 +18,8 @@
 namespace evidential_slam {
 namespace io {
 
+class AtomicFiles;
+
 struct OctomapExportConfig {
   // The slab covers the voxel layers from the one containing z_min to the one containing z_max
   // (OctoMap's voxel k spans [k * res, (k + 1) * res)). Default: one layer, [0, res).
@@ -49,12 +51,14 @@ extern const char* const kEvidentialOtSuffix;  // ".evidential.ot"
 extern const char* const kBinarySuffix;        // ".bt"
 extern const char* const kColorOtSuffix;       // ".color.ot"
 
-// Writes the three files (directory must exist). Each is written to a temporary name and renamed
-// once complete. False (and a one-line `error`) on a bad config, a map outside OctoMap's key range
-// (±32768 cells from the origin), or a file that cannot be written. Trees are built one at a time
-// to bound memory.
+// Writes the three files (directory must exist). They replace the old ones together once all are
+// written (atomic_files.h): staged into `files` when given (the caller commits), else committed
+// here. False (and a one-line `error`) on a bad config, a map outside OctoMap's key range (±32768
+// cells from the origin), or a file that cannot be written (the old files are then left as they
+// were). Trees are built one at a time to bound memory.
 bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& config,
-                   const std::string& path_prefix, OctomapExportResult* result, std::string* error);
+                   const std::string& path_prefix, OctomapExportResult* result, std::string* error,
+                   AtomicFiles* files = nullptr);
 
 }  // namespace io
 }  // namespace evidential_slam

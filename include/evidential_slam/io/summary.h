@@ -86,8 +86,13 @@ struct RunSummary {
   std::vector<double> conflict_alarm_stamps;
 };
 
-// Writes `summary` as pretty-printed JSON. False (and `error`) when the file cannot be written.
-bool writeSummaryJson(const std::string& path, const RunSummary& summary, std::string* error);
+class AtomicFiles;
+
+// Writes `summary` as pretty-printed JSON, replacing the old file only once complete
+// (atomic_files.h; staged into `files` when given). False (and `error`, with the reason) when the
+// file cannot be written.
+bool writeSummaryJson(const std::string& path, const RunSummary& summary, std::string* error,
+                      AtomicFiles* files = nullptr);
 
 }  // namespace io
 }  // namespace evidential_slam

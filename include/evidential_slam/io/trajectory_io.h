@@ -11,8 +11,12 @@
 namespace evidential_slam {
 namespace io {
 
+class AtomicFiles;
+
+// Writes `poses`; the file replaces the old one only once complete (atomic_files.h), staged into
+// `files` when given (the caller commits). False (and `error`, with the reason) on a write error.
 bool writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses,
-                        std::string* error);
+                        std::string* error, AtomicFiles* files = nullptr);
 
 // Reads a TUM file back (yaw from the quaternion); '#' lines are skipped.
 bool readTumTrajectory(const std::string& path, std::vector<StampedPose>* poses,

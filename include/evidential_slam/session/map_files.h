@@ -23,6 +23,9 @@
 #include "evidential_slam/session/session.h"
 
 namespace evidential_slam {
+namespace io {
+class AtomicFiles;
+}  // namespace io
 
 // What the OctoMap export wrote.
 struct OctomapFilesReport {
@@ -58,10 +61,13 @@ struct MapSave {
 // whether mapping was paused. Read the session where it does not run (the node's worker thread).
 MapSave captureMapSave(const MappingSession& session);
 
-// Writes the files above into `dir` (created if missing). False with a one-line `error` on the
-// first file that cannot be written.
+// Writes the files above into `dir` (created if missing). They replace the previous files together
+// once all are written (io/atomic_files.h): staged into `staged` when given (the caller commits it
+// with files of its own), else committed here; map.evmap is written (atomically) first, on its
+// own. False with a one-line `error` on the first file that cannot be written; the previous files
+// are then left as they were.
 bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionConfig& config,
-                   MapFilesReport* report, std::string* error);
+                   MapFilesReport* report, std::string* error, io::AtomicFiles* staged = nullptr);
 
 // A map file read to continue mapping on (the offline runner's --load-map, the node's map_file
 // and ~load_map).

@@ -12,6 +12,7 @@
 #include <functional>
 #include <system_error>
 
+#include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/evidential_octree.h"
 
 namespace evidential_slam {
@@ -47,33 +48,6 @@ void forEachObserved(const EvidentialGridMap& grid, const CellBox& box,
   }
 }
 
-// Writes through `write` into path + ".tmp", then renames it to `path`.
-bool writeFile(const std::string& path, const std::function<bool(std::ostream&)>& write,
-               uint64_t* bytes, std::string* error) {
-  const std::string tmp = path + ".tmp";
-  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-  if (!out) {
-    if (error) *error = "cannot write '" + path + "'";
-    return false;
-  }
-  const bool wrote = write(out);
-  out.close();
-  std::error_code ec;
-  if (!wrote || !out) {
-    fs::remove(tmp, ec);
-    if (error) *error = "error writing '" + path + "'";
-    return false;
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    if (error) *error = "cannot write '" + path + "': " + ec.message();
-    return false;
-  }
-  *bytes = fs::file_size(path, ec);
-  return true;
-}
-
 uint8_t channel(double mass) {
   return static_cast<uint8_t>(std::lround(255.0 * std::clamp(mass, 0.0, 1.0)));
 }
@@ -92,8 +66,10 @@ bool OctomapExportConfig::isValid(std::string* why) const {
 }
 
 bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& config,
-                   const std::string& path_prefix, OctomapExportResult* result,
-                   std::string* error) {
+                   const std::string& path_prefix, OctomapExportResult* result, std::string* error,
+                   AtomicFiles* staged) {
+  AtomicFiles own;
+  AtomicFiles* files = staged ? staged : &own;
   const auto t0 = Clock::now();
   *result = OctomapExportResult();
   auto fail = [&](const std::string& why) {
@@ -144,8 +120,8 @@ bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& con
     tree.updateInnerNodes();
     tree.prune();
     file.nodes = tree.size();
-    if (!writeFile(
-            file.path, [&](std::ostream& s) { return tree.write(s); }, &file.bytes, error)) {
+    if (!files->add(
+            file.path, [&](std::ostream& s) { return tree.write(s); }, error, &file.bytes)) {
       return false;
     }
     file.seconds = secondsSince(t);
@@ -159,8 +135,8 @@ bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& con
       tree.setNodeValue(key, occupancyLogOdds(c), /*lazy_eval=*/true);
     });
     tree.updateInnerOccupancy();
-    if (!writeFile(
-            file.path, [&](std::ostream& s) { return tree.writeBinary(s); }, &file.bytes, error)) {
+    if (!files->add(
+            file.path, [&](std::ostream& s) { return tree.writeBinary(s); }, error, &file.bytes)) {
       return false;
     }
     file.nodes = tree.size();
@@ -181,13 +157,14 @@ bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& con
     // Inner nodes: maximum value, average colour (ColorOcTree's version crashes on an empty tree).
     if (tree.getRoot() != nullptr) tree.updateInnerOccupancy();
     file.nodes = tree.size();
-    if (!writeFile(
-            file.path, [&](std::ostream& s) { return tree.write(s); }, &file.bytes, error)) {
+    if (!files->add(
+            file.path, [&](std::ostream& s) { return tree.write(s); }, error, &file.bytes)) {
       return false;
     }
     file.seconds = secondsSince(t);
     result->files.push_back(file);
   }
+  if (!staged && !own.commit(error)) return false;
   result->seconds = secondsSince(t0);
   return true;
 }
