@@ -1,4 +1,4 @@
-// Shared bits of the OctoMap tests: a grid with every kind of cell, and running a program.
+// Shared bits of the OctoMap tests: a grid with every kind of cell (runProgram is in test_util.h).
 #pragma once
 
 #include <sys/wait.h>
@@ -69,39 +69,6 @@ inline std::vector<Observed> observedCells(const EvidentialGridMap& grid) {
     }
   }
   return out;
-}
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-inline std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-// Runs `program args...` with stdin from /dev/null; stdout and stderr are captured in files in
-// `scratch`, `cwd` (if set) is the working directory.
-inline RunResult runProgram(const std::string& program, const std::vector<std::string>& args,
-                            const std::filesystem::path& scratch,
-                            const std::map<std::string, std::string>& env = {},
-                            const std::string& cwd = "") {
-  std::string cmd;
-  if (!cwd.empty()) cmd += "cd " + shellQuote(cwd) + " && ";
-  for (const auto& [k, v] : env) cmd += k + "=" + shellQuote(v) + " ";
-  cmd += shellQuote(program);
-  for (const auto& a : args) cmd += " " + shellQuote(a);
-  const std::filesystem::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  cmd += " > " + shellQuote(out.string()) + " 2> " + shellQuote(err.string()) + " < /dev/null";
-  const int status = std::system(cmd.c_str());
-  RunResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = readText(out);
-  r.err = readText(err);
-  return r;
 }
 
 }  // namespace test

@@ -6,16 +6,21 @@
 #include <iterator>
 #include <limits>
 #include <random>
+#include <tuple>
 #include <vector>
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include "evidential_slam/io/ground_truth.h"
@@ -232,6 +237,146 @@ bool truncateCopy(const std::string& in, const std::string& out, double fraction
     return false;
   }
   return true;
+}
+
+namespace {
+
+// The first `objects` serialised objects of a rawlog (gzip or plain), as bytes.
+bool headOf(const std::string& path, int objects, std::string* bytes, std::string* error) {
+  mrpt::io::CFileGZInputStream in;
+  if (!in.open(path)) {
+    if (error) *error = "cannot open '" + path + "'";
+    return false;
+  }
+  auto archive = mrpt::serialization::archiveFrom(in);
+  for (int i = 0; i < objects; ++i) archive.ReadObject();
+  const uint64_t length = in.getPosition();
+  in.close();
+  in.open(path);
+  bytes->assign(length, '\0');
+  if (in.Read(bytes->data(), length) != length) {
+    if (error) *error = "cannot read '" + path + "'";
+    return false;
+  }
+  return true;
+}
+
+class MemoryLog {
+ public:
+  MemoryLog& operator<<(const mrpt::serialization::CSerializable& object) {
+    auto archive = mrpt::serialization::archiveFrom(stream_);
+    archive << object;
+    return *this;
+  }
+  std::string bytes() const {
+    return std::string(static_cast<const char*>(stream_.getRawBufferData()),
+                       static_cast<size_t>(stream_.getTotalBytesCount()));
+  }
+
+ private:
+  mrpt::io::CMemoryStream stream_;
+};
+
+CObservation2DRangeScan::Ptr smallScan(double t, bool intensity) {
+  auto s = CObservation2DRangeScan::Create();
+  s->timestamp = mrpt::Clock::fromDouble(t);
+  s->sensorLabel = "LASER";
+  s->aperture = static_cast<float>(M_PI);
+  s->maxRange = 10.0f;
+  s->resizeScanAndAssign(5, 3.0f, true);
+  s->setScanRange(1, std::numeric_limits<float>::quiet_NaN());
+  s->setScanRangeValidity(2, false);
+  if (intensity) {
+    s->setScanHasIntensity(true);
+    for (size_t i = 0; i < 5; ++i) s->setScanIntensity(i, static_cast<int>(10 * i));
+  }
+  return s;
+}
+
+}  // namespace
+
+bool writeRawlogFuzzSeeds(const std::string& data_dir, const std::string& mrpt_datasets_dir,
+                          const std::string& out_dir, std::string* error) {
+  auto save = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream out(out_dir + "/" + name, std::ios::binary | std::ios::trunc);
+    out << bytes;
+    if (!out) {
+      if (error) *error = "cannot write '" + out_dir + "/" + name + "'";
+      return false;
+    }
+    return true;
+  };
+  std::string bytes;
+  for (const auto& [source, objects, name] : std::vector<std::tuple<std::string, int, std::string>>{
+           {data_dir + "/sim.rawlog", 4, "sim_actions_frames.rawlog"},
+           {data_dir + "/sim_obs.rawlog", 4, "sim_observations.rawlog"}}) {
+    if (!headOf(source, objects, &bytes, error) || !save(name, bytes)) return false;
+  }
+  // Older class versions (scans 6, CPose3D 1 and 2 with a CMatrixD, actions 6 and 7) and sensors
+  // the reader leaves to MRPT (beacons, landmarks), when mrpt-common's datasets are installed.
+  for (const auto& [source, objects, name] : std::vector<std::tuple<std::string, int, std::string>>{
+           {"localization_demo.rawlog", 4, "mrpt_localization_demo.rawlog"},
+           {"2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog", 3, "mrpt_sena.rawlog"},
+           {"uwb_ro-localization_demo.rawlog", 2, "mrpt_uwb_beacons.rawlog"},
+           {"kf-slam_demo.rawlog", 2, "mrpt_kf_slam_landmarks.rawlog"}}) {
+    const std::string path = mrpt_datasets_dir + "/" + source;
+    if (!std::ifstream(path)) continue;
+    if (!headOf(path, objects, &bytes, error) || !save(name, bytes)) return false;
+  }
+
+  // An odometry action with the Thrun model (MRPT draws its samples while reading), then one
+  // holding a Gaussian pose PDF (scan matching), each with a frame.
+  MemoryLog motion;
+  {
+    CActionRobotMovement2D::TMotionModelOptions options;
+    options.modelSelection = CActionRobotMovement2D::mmThrun;
+    options.thrunModel.nParticlesCount = 20;
+    CActionRobotMovement2D act;
+    act.computeFromOdometry(CPose2D(0.2, 0.0, 0.05), options);
+    act.timestamp = mrpt::Clock::fromDouble(1.0);
+    act.hasVelocities = true;
+    act.velocityLocal = mrpt::math::TTwist2D(0.2, 0.0, 0.05);
+    act.hasEncodersInfo = true;
+    act.encoderLeftTicks = 100;
+    act.encoderRightTicks = 110;
+    CActionCollection actions;
+    actions.insert(act);
+    CSensoryFrame frame;
+    frame.insert(smallScan(1.0, false));
+    motion << actions << frame;
+
+    CActionRobotMovement2D matched;
+    matched.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+    mrpt::math::CMatrixDouble33 cov;
+    cov.setDiagonal(3, 0.01);
+    matched.poseChange = mrpt::poses::CPosePDFGaussian::Create(CPose2D(0.1, 0.0, 0.0), cov);
+    CActionCollection matched_actions;
+    matched_actions.insert(matched);
+    CSensoryFrame next;
+    next.insert(smallScan(2.0, true));
+    motion << matched_actions << next;
+  }
+  if (!save("synthetic_motion_models.rawlog", motion.bytes())) return false;
+
+  // Observation-only: odometry with encoders and velocities, a scan with intensities, a comment.
+  MemoryLog observations;
+  {
+    CObservationOdometry odo;
+    odo.timestamp = mrpt::Clock::fromDouble(1.0);
+    odo.odometry = CPose2D(1.0, 2.0, 0.3);
+    odo.hasEncodersInfo = true;
+    odo.encoderLeftTicks = 5;
+    odo.encoderRightTicks = 7;
+    odo.hasVelocities = true;
+    odo.velocityLocal = mrpt::math::TTwist2D(0.1, 0.0, 0.01);
+    mrpt::obs::CObservationComment comment;
+    comment.text = "a comment";
+    CObservationOdometry later = odo;
+    later.timestamp = mrpt::Clock::fromDouble(2.0);
+    later.odometry = CPose2D(1.5, 2.0, 0.3);
+    observations << odo << comment << *smallScan(1.5, true) << later;
+  }
+  return save("synthetic_observations.rawlog", observations.bytes());
 }
 
 }  // namespace test

@@ -45,5 +45,13 @@ bool makeVariant(const std::string& in, const std::string& out, Variant variant,
 bool truncateCopy(const std::string& in, const std::string& out, double fraction,
                   std::string* error);
 
+// Writes the rawlog fuzzer's seed corpus (test/fuzz/corpus/rawlog) to `out_dir`, plain
+// (uncompressed) rawlogs of a few entries each: the heads of the two committed fixtures, of those
+// of MRPT's datasets (older class versions, other sensors) found under `mrpt_datasets_dir`, and
+// logs written here with MRPT for the branches those lack (a Thrun motion model, an action holding
+// a pose PDF, odometry with encoders and velocities, a scan with intensities, a comment).
+bool writeRawlogFuzzSeeds(const std::string& data_dir, const std::string& mrpt_datasets_dir,
+                          const std::string& out_dir, std::string* error);
+
 }  // namespace test
 }  // namespace evidential_slam
