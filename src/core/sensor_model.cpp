@@ -209,8 +209,10 @@ double ScanAccumulator::openSpaceConflict(const EvidentialGridMap& map, int radi
   forEachTouched([&](const Block& block, size_t k) {
     const ScanMass& m = block.mass[k];
     if (m.occupied < 0.5f) return;  // m̃(e) s(o) >= 1/2 needs s(o) >= 1/2
-    const int x = (block.tile_x << kTileBits) | static_cast<int>(k & (kTileSize - 1));
-    const int y = (block.tile_y << kTileBits) | static_cast<int>(k >> kTileBits);
+    // Tile coordinates are negative west and south of the origin: multiply, do not shift left
+    // (a left shift of a negative value is undefined behaviour).
+    const int x = block.tile_x * kTileSize + static_cast<int>(k & (kTileSize - 1));
+    const int y = block.tile_y * kTileSize + static_cast<int>(k >> kTileBits);
     const Cell& c = map.cell(x, y);
     if (static_cast<double>(c.free()) * m.occupied < 0.5) return;
     bool open = true;
