@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 namespace evidential_slam {
 namespace io {
@@ -13,25 +14,26 @@ bool printable(unsigned char c) { return c >= 0x20 && c < 0x7f; }
 }  // namespace
 
 std::string oneLineMessage(const std::string& what, size_t max_chars) {
-  std::string text = what;
-  const size_t message = text.find("Message:");
-  if (message != std::string::npos) {
-    text = text.substr(message + 8);
-    for (const char* cut :
-         {"\nLocation:", "Location:", "\nCall stack", "\n=====", "\nOriginal exception:"}) {
-      const size_t at = text.find(cut);
-      if (at != std::string::npos) text.resize(at);
-    }
-  }
-  // The first line with something on it.
-  size_t begin = 0;
+  // The first line that says something: not a "==== MRPT exception ====" banner, not an empty
+  // "Message:" (MRPT then puts the wrapped exception's text under "Location:"), and nothing from
+  // the call stack on.
   std::string line;
-  while (begin <= text.size()) {
-    const size_t end = std::min(text.find('\n', begin), text.size());
-    line = text.substr(begin, end - begin);
-    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
-    line.clear();
+  size_t begin = 0;
+  while (begin < what.size()) {
+    const size_t end = std::min(what.find('\n', begin), what.size());
+    std::string candidate = what.substr(begin, end - begin);
     begin = end + 1;
+    const size_t first = candidate.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    candidate = candidate.substr(first);
+    if (candidate.rfind("Call stack", 0) == 0) break;
+    if (candidate.rfind("====", 0) == 0) continue;
+    for (const char* label : {"Message:", "Location:"}) {
+      if (candidate.rfind(label, 0) == 0) candidate = candidate.substr(std::strlen(label));
+    }
+    if (candidate.find_first_not_of(" \t\r") == std::string::npos) continue;
+    line = candidate;
+    break;
   }
   std::string out;
   bool space = false;

@@ -227,7 +227,8 @@ struct RawlogReader::Impl {
     s.valid.resize(n);
     for (size_t i = 0; i < n; ++i) {
       s.ranges[i] = obs.getScanRange(i);
-      const float a = obs.getScanAngle(i);
+      // MRPT spreads the aperture over n - 1 steps: a single beam would come out NaN.
+      const float a = n == 1 ? 0.0f : obs.getScanAngle(i);
       s.bearings[i] = flipped ? -a : a;
       s.valid[i] = obs.getScanRangeValidity(i) ? 1 : 0;
     }
@@ -497,6 +498,9 @@ bool RawlogReader::open(const std::string& path, std::string* error) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return fail("rawlog '" + path + "' does not exist");
   if (std::filesystem::is_directory(path, ec)) return fail("rawlog '" + path + "' is a directory");
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    return fail("rawlog '" + path + "' is not a regular file (a device or a pipe)");
+  }
   Impl& d = *impl_;
   d.path = path;
   auto file = std::make_unique<mrpt::io::CFileGZInputStream>();

@@ -313,6 +313,19 @@ TEST(RawlogCorruption, ImpossibleScanValues) {
   EXPECT_EQ(readBytes(full.str()).status, RawlogReader::Status::kEnd);
 }
 
+// MRPT spreads the aperture over n - 1 steps, so a one-beam scan's bearing would be NaN.
+TEST(RawlogCorruption, OneBeamScanLooksAhead) {
+  Bytes b;
+  b << odometry(10.0, 0.0) << scan(10.0, 1);
+  RawlogReader reader;
+  std::string error;
+  ASSERT_TRUE(reader.openBytes(b.str(), "one beam", &error)) << error;
+  RawlogScan s;
+  ASSERT_EQ(reader.next(&s), RawlogReader::Status::kScan) << reader.message();
+  ASSERT_EQ(s.scan.bearings.size(), 1u);
+  EXPECT_EQ(s.scan.bearings[0], 0.0f);
+}
+
 TEST(RawlogCorruption, ImpossibleOdometry) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (double x : {nan, std::numeric_limits<double>::infinity(), 1e30, -2e5}) {

@@ -146,6 +146,11 @@ TEST(RawlogReader, MissingFileIsAClearError) {
   EXPECT_EQ(error.find('\n'), std::string::npos);
   EXPECT_FALSE(reader.open(ES_TEST_DATA_DIR, &error));
   EXPECT_NE(error.find("directory"), std::string::npos) << error;
+  for (const char* device : {"/dev/zero", "/dev/urandom", "/dev/null"}) {
+    EXPECT_FALSE(reader.open(device, &error)) << device;
+    EXPECT_EQ(error,
+              std::string("rawlog '") + device + "' is not a regular file (a device or a pipe)");
+  }
 }
 
 TEST(RawlogReader, GarbageIsNotARawlog) {

@@ -9,10 +9,10 @@
 namespace evidential_slam {
 namespace io {
 
-// The message of an exception text on one line: MRPT's "Message:" part when there is one (without
-// its location and call stack), else the first non-empty line; whitespace runs squeezed to one
-// space, bytes outside printable ASCII shown as '?', cut to `max_chars` ("..." marks the cut).
-// "(no message)" when nothing is left.
+// The message of an exception text on one line: its first line that says something (for MRPT's
+// texts, the "Message:" part, or the "Location:" part when the message is empty; never the banner
+// or the call stack); whitespace runs squeezed to one space, bytes outside printable ASCII shown as
+// '?', cut to `max_chars` ("..." marks the cut). "(no message)" when nothing is left.
 std::string oneLineMessage(const std::string& what, size_t max_chars = 160);
 
 // `text` (a name or a line read from a file) in single quotes for a one-line message: printable

@@ -24,7 +24,7 @@ struct RawlogLimits {
   uint32_t max_objects = 1000;           // observations in a sensory frame, actions in a collection
   uint32_t max_string_bytes = 4096;      // a sensor label
   uint32_t max_matrix_elements = 1024;   // a pose or covariance matrix (rows x cols)
-  uint32_t max_motion_samples = 100000;  // particles of an odometry action's Thrun motion model
+  uint32_t max_motion_samples = 10000;    // particles of an odometry action's Thrun motion model
   uint64_t max_object_bytes = 64u << 20;  // one action collection, sensory frame or observation
   double max_coordinate = 1e5;            // m, |x| and |y| of an odometry pose or increment
   double max_sensor_offset = 100.0;       // m, |x|, |y| and |z| of the laser on the robot
