@@ -67,8 +67,12 @@ if(CATKIN_ENABLE_TESTING)
   option(ES_ALLOW_NO_FUZZER "Skip (instead of fail) the fuzz test when clang/libFuzzer is missing"
     OFF)
   set(ES_FUZZER_BIN "")
+  # Off in scripts/test's sanitizer workspaces: the fuzz targets are ASan builds of their own.
+  option(ES_BUILD_FUZZERS "Build the clang libFuzzer targets" ON)
   find_program(ES_CLANGXX NAMES clang++ clang++-14)
-  if(ES_CLANGXX)
+  if(ES_CLANGXX AND NOT ES_BUILD_FUZZERS)
+    message(STATUS "ES_BUILD_FUZZERS is off: no libFuzzer targets")
+  elseif(ES_CLANGXX)
     set(probe_dir "${CMAKE_CURRENT_BINARY_DIR}/fuzzer_probe")
     file(WRITE "${probe_dir}/probe.cpp"
       "#include <cstddef>\n#include <cstdint>\n"
