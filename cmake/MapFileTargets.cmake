@@ -41,7 +41,8 @@ if(CATKIN_ENABLE_TESTING)
   # --- libFuzzer target for the reader -----------------------------------------------------------
   # Built like the OctoMap reader's (OctomapTargets.cmake): with clang, ASan and UBSan, when that
   # file's probe found a clang++ that links -fsanitize=fuzzer (it then set ES_FUZZER_BIN).
-  # test_map_file_fuzz runs it for a few seconds on the committed seeds (test/data/map_file_seeds).
+  # test_map_file_fuzz runs it for a fixed number of inputs from the committed seeds
+  # (test/data/map_file_seeds).
   set(ES_MAP_FUZZER_BIN "")
   if(ES_FUZZER_BIN)
     set(ES_MAP_FUZZER_BIN "${CMAKE_CURRENT_BINARY_DIR}/map_file_fuzzer")
