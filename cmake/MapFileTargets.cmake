@@ -49,12 +49,14 @@ if(CATKIN_ENABLE_TESTING)
     set(map_fuzz_sources
       "${CMAKE_CURRENT_SOURCE_DIR}/test/io/map_file_fuzzer.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/io/map_file.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/io/atomic_files.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/evidential_grid.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/mass.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/pose2.cpp"
       "${ES_BUILD_INFO_CPP}")
     file(GLOB map_fuzz_headers CONFIGURE_DEPENDS
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/map_file.h"
+      "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/io/atomic_files.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/evidential_grid.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/mass.h"
       "${CMAKE_CURRENT_SOURCE_DIR}/include/evidential_slam/core/pose2.h")
