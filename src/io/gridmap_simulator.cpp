@@ -385,15 +385,19 @@ struct GridmapSimulator::Impl {
     buildObstacles();
     if (!config.waypoints.empty()) {
       if (!readWaypoints(config.waypoints, &waypoints, error)) return false;
-      // The run ends at the last waypoint: one far off the map would never be reached.
+      // The run ends at the last waypoint: one far off the map would never be reached. Beyond a
+      // wall, within the map's own size of its edges, the robot is held by the wall and stops.
+      const double margin_x = grid.getXMax() - grid.getXMin();
+      const double margin_y = grid.getYMax() - grid.getYMin();
       for (size_t i = 0; i < waypoints.size(); ++i) {
         const Eigen::Vector2d& w = waypoints[i];
-        if (w.x() < grid.getXMin() || w.x() > grid.getXMax() || w.y() < grid.getYMin() ||
-            w.y() > grid.getYMax()) {
+        if (w.x() < grid.getXMin() - margin_x || w.x() > grid.getXMax() + margin_x ||
+            w.y() < grid.getYMin() - margin_y || w.y() > grid.getYMax() + margin_y) {
           std::ostringstream why;
           why << "waypoint " << i + 1 << " of '" << config.waypoints << "' at (" << w.x() << ", "
-              << w.y() << ") lies outside the map (x " << grid.getXMin() << " .. " << grid.getXMax()
-              << ", y " << grid.getYMin() << " .. " << grid.getYMax() << " m)";
+              << w.y() << ") lies more than the map's size outside the map (x " << grid.getXMin()
+              << " .. " << grid.getXMax() << ", y " << grid.getYMin() << " .. " << grid.getYMax()
+              << " m)";
           *error = why.str();
           return false;
         }

@@ -522,11 +522,11 @@ TEST(GridmapSimulator, BadInputGivesAOneLineError) {
   EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
   expectOneLineError(error, "got '\\x1b[2J\\x01\\xff 3'");
 
-  // A waypoint off the map would never be reached: the run would not end.
+  // A waypoint far off the map would never be reached: the run would not end.
   garbage.waypoints = writeWaypoints(dir, "1 1\n1e9 1\n");
   EXPECT_FALSE(GridmapSimulator(garbage).load(&error));
   expectOneLineError(error, "waypoint 2 of");
-  expectOneLineError(error, "lies outside the map");
+  expectOneLineError(error, "lies more than the map's size outside the map");
 
   GridmapSimulatorConfig invalid = c;
   invalid.linear_speed = -1.0;
