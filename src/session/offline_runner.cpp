@@ -183,6 +183,7 @@ int Run::execute() {
   if (!opt_.quiet) progress_ = std::make_unique<ProgressBar>(err_, total, tty_);
 
   auto session = std::make_unique<MappingSession>(opt_.params);
+  session->setResetSaveRoot(out_dir_.string());
   const std::string source = fs::weakly_canonical(fs::path(opt_.rawlog), ec).string();
   if (!opt_.load_map.empty() || opt_.has_initial_pose) {
     if (!startSession(session.get(), loaded, source, &why)) return fail(kExitBadInput, why);
