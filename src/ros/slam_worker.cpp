@@ -32,7 +32,7 @@ bool SlamWorker::push(const Pose2& odometry, const LaserScan& scan) {
       ++stats_.queue_full_drops;
       return false;
     }
-    queue_.push_back(Item{odometry, scan, std::chrono::steady_clock::now()});
+    queue_.push_back(Item{odometry, scan, std::chrono::steady_clock::now(), std::string()});
   }
   wake_.notify_one();
   return true;
