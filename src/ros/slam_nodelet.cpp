@@ -168,9 +168,8 @@ void SlamNodelet::onInit() {
   updater_->setHardwareID("evidential_slam");
   updater_->add("heartbeat", this, &SlamNodelet::heartbeat);
   heartbeat_time_ = ros::WallTime::now();
-  heartbeat_timer_ = nh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
-    updater_->force_update();
-  });
+  heartbeat_timer_ = nh_.createWallTimer(
+      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->force_update(); });
 
   NODELET_INFO(
       "evidential_slam: %d particles, %.3f m cells; frames %s -> %s -> %s; listening on %s",

@@ -85,7 +85,19 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
 
   // The lossless map first: it is what a later run continues from.
   const std::string evmap = (root / io::kMapFileName).string();
-  if (!io::writeMapFile(evmap, save.map, save.info, error, &report->map_file_stats)) return false;
+  std::string bytes;
+  if (!io::encodeMapFile(save.map, save.info, &bytes, error, &report->map_file_stats)) {
+    if (error != nullptr) *error = evmap + ": " + *error;
+    return false;
+  }
+  const bool evmap_ok = files->add(
+      evmap,
+      [&bytes](std::ostream& out) {
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        return static_cast<bool>(out);
+      },
+      error);
+  if (!evmap_ok) return false;
   report->files.push_back(evmap);
   report->map_file = evmap;
   const std::string tum = (root / "trajectory.tum").string();

@@ -287,8 +287,8 @@ TEST_F(OfflineE2E, AFailedSaveKeepsThePreviousRun) {
   Result r = runOffline(concat(concat(base, kFast), {"--max-scans", "40"}), scratch_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto before = digest(out);
-  // Top level, layers (PNG/NPY and the map_server pairs), OctoMap.
-  ASSERT_EQ(before.size(), 3u + 21u + 18u + 3u);
+  // Top level (with map.evmap), layers (PNG/NPY and the map_server pairs), OctoMap.
+  ASSERT_EQ(before.size(), 4u + 21u + 18u + 3u);
 
   // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing the run.
   r = runOffline(concat(concat(base, kFast), {"--max-scans", "60"}), scratch_,

@@ -91,20 +91,33 @@ TEST(Conversions, MalformedScansAreRefusedNamingTheField) {
     const char* field;
   };
   const std::vector<Case> cases = {
-      {"more ranges than the angles imply", [](auto* m) { m->ranges.push_back(1.0f); m->ranges.push_back(1.0f); }, "ranges"},
+      {"more ranges than the angles imply",
+       [](auto* m) {
+         m->ranges.push_back(1.0f);
+         m->ranges.push_back(1.0f);
+       },
+       "ranges"},
       {"fewer ranges", [](auto* m) { m->ranges.resize(2); }, "ranges"},
       {"negative increment", [](auto* m) { m->angle_increment = -0.1f; }, "angle_increment"},
       {"1e-30 increment", [](auto* m) { m->angle_increment = 1e-30f; }, "angle_increment"},
-      {"100,000 beams", [](auto* m) {
+      {"100,000 beams",
+       [](auto* m) {
          m->ranges.assign(100000, 1.0f);
          m->angle_increment = 6.0f / 100000;
          m->angle_min = -3.0f;
          m->angle_max = 3.0f;
-       }, "max_scan_rays"},
-      {"a span of 2e6 rad", [](auto* m) { m->angle_min = -1e6f; m->angle_max = 1e6f; }, "angle_max - angle_min"},
+       },
+       "max_scan_rays"},
+      {"a span of 2e6 rad",
+       [](auto* m) {
+         m->angle_min = -1e6f;
+         m->angle_max = 1e6f;
+       },
+       "angle_max - angle_min"},
       {"NaN angle_max", [](auto* m) { m->angle_max = kNaN; }, "angle_max"},
       {"inf angle_min", [](auto* m) { m->angle_min = -kInf; }, "angle_min"},
-      {"intensities of another length", [](auto* m) { m->intensities.assign(3, 1.0f); }, "intensities"},
+      {"intensities of another length", [](auto* m) { m->intensities.assign(3, 1.0f); },
+       "intensities"},
       {"range_max below range_min", [](auto* m) { m->range_max = 0.05f; }, "range_max"},
       {"range_max equal to range_min", [](auto* m) { m->range_max = m->range_min; }, "range_max"},
       {"negative range_min", [](auto* m) { m->range_min = -1.0f; }, "range_min"},

@@ -68,7 +68,8 @@ TEST(SlamRobustness, MalformedScansAreDroppedWithAWarningNamingTheField) {
 // One scan stamped 1.5 s behind its neighbours: dropped and reported, no restart.
 TEST(SlamRobustness, OneStampBehindIsAnOutlierNotARestart) {
   ros::WallDuration(5.5).sleep();  // past the throttle of the warnings of the tests before
-  robot->step(113.0, "laser", [](sensor_msgs::LaserScan* m) { m->header.stamp = ros::Time(110.5); });
+  robot->step(113.0, "laser",
+              [](sensor_msgs::LaserScan* m) { m->header.stamp = ros::Time(110.5); });
   EXPECT_TRUE(robot->warned("an outlier", 10.0));
   robot->step(114.0);
   EXPECT_TRUE(robot->poseAt(114.0, 10.0));
