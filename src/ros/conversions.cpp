@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <tf2/LinearMath/Matrix3x3.h>
@@ -74,20 +75,62 @@ Pose2 pose2FromPoseMsg(const geometry_msgs::Pose& pose) {
   return pose2FromTransform(t);
 }
 
-bool scanFromRos(const sensor_msgs::LaserScan& msg, const Pose2& laser_in_base, bool upside_down,
-                 float range_sigma, LaserScan* out, std::string* why) {
+bool checkLaserScan(const sensor_msgs::LaserScan& msg, int max_rays, std::string* why) {
   auto fail = [why](const std::string& what) {
     if (why != nullptr) *why = what;
     return false;
   };
-  if (msg.ranges.empty()) return fail("scan has no ranges");
-  if (!std::isfinite(msg.angle_min) || !std::isfinite(msg.angle_increment) ||
-      msg.angle_increment == 0.0f) {
-    return fail("scan has a zero or non-finite angle_increment");
+  auto text = [](double v) {
+    char s[32];
+    std::snprintf(s, sizeof(s), "%.6g", v);
+    return std::string(s);
+  };
+  const size_t n = msg.ranges.size();
+  if (n == 0) return fail("ranges is empty");
+  if (n > static_cast<size_t>(max_rays)) {
+    return fail("ranges has " + std::to_string(n) + " values, more than max_scan_rays (" +
+                std::to_string(max_rays) + ")");
   }
-  if (!std::isfinite(msg.range_max) || !(msg.range_max > 0.0f)) {
-    return fail("scan has a non-positive or non-finite range_max");
+  if (!std::isfinite(msg.angle_min)) return fail("angle_min is " + text(msg.angle_min));
+  if (!std::isfinite(msg.angle_max)) return fail("angle_max is " + text(msg.angle_max));
+  if (!std::isfinite(msg.angle_increment)) {
+    return fail("angle_increment is " + text(msg.angle_increment));
   }
+  if (std::abs(msg.angle_increment) < kMinAngleIncrement) {
+    return fail("angle_increment " + text(msg.angle_increment) + " rad is (almost) zero");
+  }
+  const double span = static_cast<double>(msg.angle_max) - msg.angle_min;
+  if (std::abs(span) > 2.0 * M_PI + std::abs(msg.angle_increment)) {
+    return fail("angle_max - angle_min spans " + text(span) + " rad, more than a turn");
+  }
+  if (n > 1 && span * msg.angle_increment < 0.0) {
+    return fail("angle_increment " + text(msg.angle_increment) + " goes the other way from " +
+                "angle_min to angle_max (" + text(msg.angle_min) + " to " + text(msg.angle_max) +
+                ")");
+  }
+  // Drivers disagree on whether angle_max is the last ray's bearing or one step beyond it.
+  const double implied = span / msg.angle_increment + 1.0;
+  if (std::abs(implied - static_cast<double>(n)) > 1.5) {
+    return fail("ranges has " + std::to_string(n) + " values where the angles imply " +
+                text(std::round(implied)));
+  }
+  if (!msg.intensities.empty() && msg.intensities.size() != n) {
+    return fail("intensities has " + std::to_string(msg.intensities.size()) + " values for " +
+                std::to_string(n) + " ranges");
+  }
+  if (!std::isfinite(msg.range_min) || msg.range_min < 0.0f) {
+    return fail("range_min is " + text(msg.range_min));
+  }
+  if (!std::isfinite(msg.range_max) || !(msg.range_max > msg.range_min)) {
+    return fail("range_max " + text(msg.range_max) + " is not above range_min " +
+                text(msg.range_min));
+  }
+  return true;
+}
+
+bool scanFromRos(const sensor_msgs::LaserScan& msg, const Pose2& laser_in_base, bool upside_down,
+                 float range_sigma, LaserScan* out, std::string* why, int max_rays) {
+  if (!checkLaserScan(msg, max_rays, why)) return false;
   LaserScan& s = *out;
   s = LaserScan();
   s.stamp = msg.header.stamp.toSec();
@@ -98,7 +141,7 @@ bool scanFromRos(const sensor_msgs::LaserScan& msg, const Pose2& laser_in_base, 
   s.ranges.resize(n);
   s.bearings.resize(n);
   s.valid.assign(n, 1);
-  const float min_range = std::isfinite(msg.range_min) ? std::max(0.0f, msg.range_min) : 0.0f;
+  const float min_range = msg.range_min;
   for (size_t i = 0; i < n; ++i) {
     const double bearing = msg.angle_min + static_cast<double>(i) * msg.angle_increment;
     s.bearings[i] = static_cast<float>(upside_down ? -bearing : bearing);

@@ -1,5 +1,9 @@
 #include "evidential_slam/ros/slam_nodelet.h"
 
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
@@ -18,6 +22,21 @@ namespace {
 
 constexpr uint32_t kTfFilterQueue = 50;  // scans waiting for their odometry tf, at most
 
+// Maps saved before a restart go under $ROS_HOME/evidential_slam (ROS_HOME: ~/.ros by default).
+std::string resetSaveRoot() {
+  const char* ros_home = std::getenv("ROS_HOME");
+  const char* home = std::getenv("HOME");
+  std::filesystem::path root;
+  if (ros_home != nullptr && *ros_home != 0) {
+    root = ros_home;
+  } else if (home != nullptr && *home != 0) {
+    root = std::filesystem::path(home) / ".ros";
+  } else {
+    return "";
+  }
+  return (root / "evidential_slam").string();
+}
+
 const char* failureName(tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
   switch (reason) {
     case tf2_ros::filter_failure_reasons::OutTheBack:
@@ -35,6 +54,7 @@ SlamNodelet::SlamNodelet() = default;
 
 SlamNodelet::~SlamNodelet() {
   // Stop the inputs first, then the threads that publish.
+  heartbeat_timer_.stop();
   scan_filter_.reset();
   scan_sub_.reset();
   map_timer_.stop();
@@ -78,6 +98,7 @@ void SlamNodelet::onInit() {
     NODELET_FATAL("evidential_slam: %s", e.what());
     return;
   }
+  worker_->setResetSaveRoot(resetSaveRoot());
   if (!startFromParameters(&why)) {
     NODELET_FATAL("evidential_slam: %s; the SLAM does not start", why.c_str());
     worker_.reset();
@@ -143,6 +164,13 @@ void SlamNodelet::onInit() {
         onScanWithoutTransform(msg, reason);
       });
 
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh_, private_nh_, getName());
+  updater_->setHardwareID("evidential_slam");
+  updater_->add("heartbeat", this, &SlamNodelet::heartbeat);
+  heartbeat_time_ = ros::WallTime::now();
+  heartbeat_timer_ = nh_.createWallTimer(
+      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->force_update(); });
+
   NODELET_INFO(
       "evidential_slam: %d particles, %.3f m cells; frames %s -> %s -> %s; listening on %s",
       params_.slam.particles, params_.slam.resolution, params_.map_frame.c_str(),
@@ -163,13 +191,30 @@ void SlamNodelet::onScanWithoutTransform(
   }
   std::string tf_error;
   tf_buffer_->canTransform(odom_frame, msg->header.frame_id, msg->header.stamp, &tf_error);
+  ++scans_without_tf_;
   NODELET_WARN_THROTTLE(5.0, "scan dropped: no transform from '%s' to '%s' at t = %.3f (%s)%s%s",
                         msg->header.frame_id.c_str(), odom_frame.c_str(), msg->header.stamp.toSec(),
                         failureName(reason), tf_error.empty() ? "" : ": ", tf_error.c_str());
 }
 
 void SlamNodelet::onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+  ++scans_received_;
   std::lock_guard<std::mutex> lock(watchdog_mutex_);
+  // ROS time going back is a real restart (a looping bag's /clock), not a stamp outlier.
+  const ros::Time now = ros::Time::now();
+  double tolerance = 0.0;
+  {
+    std::lock_guard<std::mutex> params_lock(params_mutex_);
+    tolerance = params_.session.time_jump_tolerance;
+  }
+  if (!last_arrival_ros_time_.isZero() && (last_arrival_ros_time_ - now).toSec() > tolerance) {
+    char reason[160];
+    std::snprintf(reason, sizeof(reason), "ROS time jumped back by %.3f s (%.3f -> %.3f)",
+                  (last_arrival_ros_time_ - now).toSec(), last_arrival_ros_time_.toSec(),
+                  now.toSec());
+    worker_->requestRestart(reason);
+  }
+  last_arrival_ros_time_ = now;
   last_raw_scan_ = msg;
   last_raw_arrival_ = ros::WallTime::now();
   in_filter_[msg] = last_raw_arrival_;
@@ -187,6 +232,7 @@ void SlamNodelet::checkWaitingScans(const ros::WallTimerEvent&) {
                               "scan at t = %.3f lost: it still waits for its transform to the "
                               "odometry frame while later scans went through",
                               it->first->header.stamp.toSec());
+        ++scans_without_tf_;
         it = in_filter_.erase(it);
       } else {
         ++it;
@@ -232,6 +278,7 @@ void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     base_laser =
         tf_buffer_->lookupTransform(params.base_frame, msg->header.frame_id, msg->header.stamp);
   } catch (const tf2::TransformException& e) {
+    ++scans_without_tf_;
     NODELET_WARN_THROTTLE(5.0, "scan dropped: transform '%s' -> '%s' -> '%s' unavailable: %s",
                           params.odom_frame.c_str(), params.base_frame.c_str(),
                           msg->header.frame_id.c_str(), e.what());
@@ -242,9 +289,10 @@ void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
   LaserScan scan;
   std::string why;
   if (!scanFromRos(*msg, laser_in_base, upside_down, static_cast<float>(params.laser_range_sigma),
-                   &scan, &why)) {
-    NODELET_WARN_THROTTLE(5.0, "scan at t = %.3f dropped: %s", msg->header.stamp.toSec(),
-                          why.c_str());
+                   &scan, &why, params.session.max_scan_rays)) {
+    ++scans_malformed_;
+    NODELET_WARN_THROTTLE(5.0, "malformed LaserScan at t = %.3f dropped: %s",
+                          msg->header.stamp.toSec(), why.c_str());
     return;
   }
   if (!worker_->push(pose2FromTransform(odom_base.transform), scan)) {
@@ -436,6 +484,49 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
       "saved " + std::to_string(response.files.size()) + " files to " + request.directory;
   NODELET_INFO("save_map: %s", response.message.c_str());
   return true;
+}
+
+void SlamNodelet::heartbeat(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  const WorkerStats w = worker_->stats();
+  const size_t queued = worker_->queued();
+  size_t capacity = 0;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    capacity = static_cast<size_t>(params_.scan_queue_size);
+  }
+  const uint64_t received = scans_received_;
+  const ros::WallTime now = ros::WallTime::now();
+  const double period = std::max(1e-3, (now - heartbeat_time_).toSec());
+  const double rate = static_cast<double>(received - heartbeat_received_) / period;
+  heartbeat_received_ = received;
+  heartbeat_time_ = now;
+  const uint64_t malformed = scans_malformed_, without_tf = scans_without_tf_;
+
+  if (w.conflict_alarm) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "conflict alarm");
+  } else if (queued * 5 >= capacity * 4) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "scan queue nearly full");
+  } else if (received == 0 || rate == 0.0) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no scans");
+  } else {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
+  }
+  status.add("scan rate (Hz)", rate);
+  status.add("scans received", received);
+  status.add("scans handled", w.handled);
+  status.add("queue length", queued);
+  status.add("queue capacity", capacity);
+  status.add("latency last (s)", w.last_latency_s);
+  status.add("latency max (s)", w.max_latency_s);
+  status.add("dropped: queue full", w.queue_full_drops);
+  status.add("dropped: malformed", malformed);
+  status.add("dropped: no transform", without_tf);
+  status.add("dropped: older stamp", w.dropped);
+  status.add("dropped: stamp outlier", w.stamp_outliers);
+  status.add("refused: limits", w.refused);
+  status.add("restarts", w.restarts);
+  status.add("map saved before the last restart", w.last_reset_save);
+  status.add("conflict alarm", w.conflict_alarm);
 }
 
 bool SlamNodelet::getMap(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& response) {

@@ -1,5 +1,6 @@
 #include "evidential_slam/ros/slam_worker.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <future>
 #include <utility>
@@ -27,8 +28,11 @@ SlamWorker::~SlamWorker() {
 bool SlamWorker::push(const Pose2& odometry, const LaserScan& scan) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (queue_.size() >= max_queue_) return false;
-    queue_.push_back(Item{odometry, scan});
+    if (queue_.size() >= max_queue_) {
+      ++stats_.queue_full_drops;
+      return false;
+    }
+    queue_.push_back(Item{odometry, scan, std::chrono::steady_clock::now(), std::string()});
   }
   wake_.notify_one();
   return true;
@@ -42,6 +46,21 @@ bool SlamWorker::reconfigure(const Parameters& params, std::string* why) {
   }
   wake_.notify_one();
   return true;
+}
+
+void SlamWorker::requestRestart(const std::string& reason) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Item item;
+    item.restart = reason;
+    queue_.push_back(std::move(item));  // in order with the scans, whatever the queue's size
+  }
+  wake_.notify_one();
+}
+
+void SlamWorker::setResetSaveRoot(const std::string& root) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  reset_save_root_ = root;
 }
 
 void SlamWorker::runTask(const std::function<void()>& task) {
@@ -100,6 +119,22 @@ uint64_t SlamWorker::resets() const {
   return resets_;
 }
 
+WorkerStats SlamWorker::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void SlamWorker::afterRestart() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_.grid.reset();
+  map_.anomaly.reset();
+  ++map_.version;
+  ++resets_;
+  stats_.restarts = session_.restarts();
+  stats_.last_reset_save = session_.lastResetSave();
+  stats_.conflict_alarm = false;
+}
+
 void SlamWorker::run() {
   auto warn = [this](const std::string& message, bool restarted = false) {
     if (callbacks_.on_warning) callbacks_.on_warning(message, restarted);
@@ -118,6 +153,10 @@ void SlamWorker::run() {
       if (!session_.reconfigure(*params, &why)) warn("new parameters refused: " + why);
       lock.lock();
     }
+    if (!reset_save_root_.empty()) {
+      session_.setResetSaveRoot(reset_save_root_);
+      reset_save_root_.clear();
+    }
     if (!tasks_.empty()) {
       std::function<void()> task = std::move(tasks_.front());
       tasks_.pop_front();
@@ -128,18 +167,33 @@ void SlamWorker::run() {
       Item item = std::move(queue_.front());
       queue_.pop_front();
       lock.unlock();
+      if (!item.restart.empty()) {
+        std::string message;
+        session_.restart(item.restart, &message);
+        afterRestart();
+        warn(message, true);
+        lock.lock();
+        busy_ = false;
+        if (queue_.empty() && tasks_.empty()) idle_.notify_all();
+        continue;
+      }
 
       const SessionScanResult result = session_.processScan(item.odometry, item.scan);
       const bool restarted = result.order == SessionScanResult::Order::kRestarted;
-      if (restarted) {
-        std::lock_guard<std::mutex> relock(mutex_);
-        map_.grid.reset();
-        map_.anomaly.reset();
-        ++map_.version;
-        ++resets_;
-      }
+      if (restarted) afterRestart();
       if (!result.message.empty()) warn(result.message, restarted);
-      if (result.order != SessionScanResult::Order::kDropped) {
+      {
+        std::lock_guard<std::mutex> relock(mutex_);
+        ++stats_.handled;
+        stats_.dropped = session_.scansDropped();
+        stats_.stamp_outliers = session_.stampOutliers();
+        stats_.refused = session_.scansRefused();
+        stats_.last_latency_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - item.pushed).count();
+        stats_.max_latency_s = std::max(stats_.max_latency_s, stats_.last_latency_s);
+        if (result.update.processed) stats_.conflict_alarm = result.alarm.alarm;
+      }
+      if (result.used()) {
         const double stamp = item.scan.stamp;
         if (result.update.rejected) {
           warn("scan at " + std::to_string(stamp) + " unusable: " + result.update.why);

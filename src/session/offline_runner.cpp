@@ -192,6 +192,7 @@ int Run::execute() {
   }
   const double cpu_before = processCpuSeconds();
   auto session = std::make_unique<MappingSession>(opt_.params);
+  session->setResetSaveRoot(out_dir_.string());
   const std::string source = fs::weakly_canonical(fs::path(opt_.rawlog), ec).string();
   if (!opt_.load_map.empty() || opt_.has_initial_pose) {
     if (!startSession(session.get(), loaded, source, &why)) return fail(kExitBadInput, why);

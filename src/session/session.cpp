@@ -2,8 +2,20 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+
+#include "evidential_slam/session/map_files.h"
 
 namespace evidential_slam {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char text[200];
+  std::snprintf(text, sizeof(text), fmt, a, b, c, d);
+  return text;
+}
+
+}  // namespace
 
 MappingSession::MappingSession(const Parameters& params)
     : params_(params),
@@ -14,29 +26,74 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
   SessionScanResult result;
   const double stamp = scan.stamp;
   result.stamp = stamp;
-  if (have_last_stamp_ && stamp < last_stamp_) {
-    char text[160];
-    const double back = last_stamp_ - stamp;
-    if (back > params_.session.time_jump_tolerance) {
-      std::snprintf(text, sizeof(text),
-                    "time jumped back by %.3f s (%.3f -> %.3f): the SLAM starts over", back,
-                    last_stamp_, stamp);
-      reset();
-      ++restarts_;
-      result.order = SessionScanResult::Order::kRestarted;
-      result.message = text;
-    } else {
-      std::snprintf(text, sizeof(text),
-                    "scan at %.3f is older than the previous one (%.3f): dropped", stamp,
-                    last_stamp_);
+  const SessionConfig& c = params_.session;
+  auto refuse = [&](const std::string& why) {
+    ++refused_;
+    result.order = SessionScanResult::Order::kRefused;
+    result.message = why;
+    return result;
+  };
+  if (!std::isfinite(stamp)) return refuse("scan refused: its stamp is not a finite number");
+  if (scan.size() > static_cast<size_t>(c.max_scan_rays)) {
+    return refuse("scan at " + format("%.3f", stamp) + " refused: " + std::to_string(scan.size()) +
+                  " rays, more than max_scan_rays (" + std::to_string(c.max_scan_rays) + ")");
+  }
+  if (!std::isfinite(odometry.x) || !std::isfinite(odometry.y) || !std::isfinite(odometry.theta)) {
+    return refuse("scan at " + format("%.3f", stamp) + " refused: its odometry pose is not finite");
+  }
+  if (have_origin_) {
+    const double distance = std::hypot(odometry.x - origin_.x, odometry.y - origin_.y);
+    if (distance > c.max_map_extent) {
+      return refuse(format("scan at %.3f refused: the odometry is %.0f m from where the map "
+                           "started, beyond max_map_extent (%.0f m)",
+                           stamp, distance, c.max_map_extent));
+    }
+  }
+
+  if (have_last_stamp_) {
+    const double step = stamp - last_stamp_;
+    const bool back = step < -c.time_jump_tolerance;
+    const bool ahead = step > c.time_jump_forward;
+    if (back || ahead) {
+      if (jumps_in_a_row_ == 0 || jump_back_ != back) jumps_in_a_row_ = 0;
+      jump_back_ = back;
+      ++jumps_in_a_row_;
+      if (jumps_in_a_row_ < c.time_jump_scans) {
+        ++outliers_;
+        result.order = SessionScanResult::Order::kOutlier;
+        result.message = "scan at " + format("%.3f", stamp) + " dropped: stamped " +
+                         format("%.3f", std::abs(step)) + " s " + (back ? "behind" : "ahead of") +
+                         " the previous one (" + format("%.3f", last_stamp_) + "), an outlier; " +
+                         std::to_string(jumps_in_a_row_) + " of " +
+                         std::to_string(c.time_jump_scans) + " such scans in a row before " +
+                         (back ? "the SLAM starts over" : "time moves on");
+        return result;
+      }
+      jumps_in_a_row_ = 0;
+      if (back) {
+        const std::string reason = format("time jumped back by %.3f s (%.3f -> %.3f)", -step,
+                                          last_stamp_, stamp) +
+                                   " for " + std::to_string(c.time_jump_scans) + " scans in a row";
+        restart(reason, &result.message);
+        result.order = SessionScanResult::Order::kRestarted;
+      }
+    } else if (step < 0.0) {
+      jumps_in_a_row_ = 0;
       ++dropped_;
       result.order = SessionScanResult::Order::kDropped;
-      result.message = text;
+      result.message = format("scan at %.3f is older than the previous one (%.3f): dropped", stamp,
+                              last_stamp_);
       return result;
+    } else {
+      jumps_in_a_row_ = 0;
     }
   }
   have_last_stamp_ = true;
   last_stamp_ = stamp;
+  if (!have_origin_) {
+    have_origin_ = true;
+    origin_ = odometry;
+  }
   result.update = engine_->processScan(odometry, scan);
   if (result.update.processed && !engine_->mappingPaused()) {
     result.alarm = alarm_.update(result.update.open_space_conflict_added);
@@ -44,6 +101,29 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
                                            result.update.conflict_mass_added, result.alarm});
   }
   return result;
+}
+
+std::string MappingSession::saveBeforeReset() {
+  if (!params_.session.save_before_reset) return "the map was not saved (save_before_reset off)";
+  if (engine_->stats().scans_processed == 0) return "there was no map to save";
+  if (reset_save_root_.empty()) return "the map was not saved (no directory given)";
+  const std::string dir =
+      (std::filesystem::path(reset_save_root_) / ("before_reset_" + format("%.3f", last_stamp_)))
+          .string();
+  MapFilesReport report;
+  std::string error;
+  if (!writeMapFiles(dir, captureMapSave(*this), params_.session, &report, &error)) {
+    return "the map could not be saved: " + error;
+  }
+  last_reset_save_ = dir;
+  return "the map before it is saved in " + dir;
+}
+
+void MappingSession::restart(const std::string& reason, std::string* message) {
+  const std::string saved = saveBeforeReset();
+  reset();
+  ++restarts_;
+  if (message != nullptr) *message = reason + ": the SLAM starts over; " + saved;
 }
 
 bool MappingSession::reconfigure(const Parameters& params, std::string* why) {
@@ -60,6 +140,8 @@ void MappingSession::reset() {
   alarm_.reset();
   conflict_log_.clear();
   have_last_stamp_ = false;
+  jumps_in_a_row_ = 0;
+  have_origin_ = false;
 }
 
 void MappingSession::startOver() {
@@ -87,6 +169,8 @@ bool MappingSession::startFromMap(const EvidentialGridMap& map, const Pose2& pos
   alarm_.reset();
   conflict_log_.clear();
   have_last_stamp_ = false;
+  jumps_in_a_row_ = 0;
+  have_origin_ = false;
   return true;
 }
 

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <vector>
 
 #include "evidential_slam/ros/conversions.h"
 
@@ -79,6 +81,69 @@ TEST(Conversions, ScanFromRosRefusesMessagesThatAreNoScan) {
   m.range_max = kNaN;
   EXPECT_FALSE(scanFromRos(m, Pose2(), false, 0.0f, &s, &why));
   EXPECT_NE(why.find("range_max"), std::string::npos) << why;
+}
+
+// Every malformed LaserScan of issue 36 is refused, and the reason names the field.
+TEST(Conversions, MalformedScansAreRefusedNamingTheField) {
+  struct Case {
+    const char* what;
+    std::function<void(sensor_msgs::LaserScan*)> spoil;
+    const char* field;
+  };
+  const std::vector<Case> cases = {
+      {"more ranges than the angles imply",
+       [](auto* m) {
+         m->ranges.push_back(1.0f);
+         m->ranges.push_back(1.0f);
+       },
+       "ranges"},
+      {"fewer ranges", [](auto* m) { m->ranges.resize(2); }, "ranges"},
+      {"negative increment", [](auto* m) { m->angle_increment = -0.1f; }, "angle_increment"},
+      {"1e-30 increment", [](auto* m) { m->angle_increment = 1e-30f; }, "angle_increment"},
+      {"100,000 beams",
+       [](auto* m) {
+         m->ranges.assign(100000, 1.0f);
+         m->angle_increment = 6.0f / 100000;
+         m->angle_min = -3.0f;
+         m->angle_max = 3.0f;
+       },
+       "max_scan_rays"},
+      {"a span of 2e6 rad",
+       [](auto* m) {
+         m->angle_min = -1e6f;
+         m->angle_max = 1e6f;
+       },
+       "angle_max - angle_min"},
+      {"NaN angle_max", [](auto* m) { m->angle_max = kNaN; }, "angle_max"},
+      {"inf angle_min", [](auto* m) { m->angle_min = -kInf; }, "angle_min"},
+      {"intensities of another length", [](auto* m) { m->intensities.assign(3, 1.0f); },
+       "intensities"},
+      {"range_max below range_min", [](auto* m) { m->range_max = 0.05f; }, "range_max"},
+      {"range_max equal to range_min", [](auto* m) { m->range_max = m->range_min; }, "range_max"},
+      {"negative range_min", [](auto* m) { m->range_min = -1.0f; }, "range_min"},
+      {"no ranges", [](auto* m) { m->ranges.clear(); }, "ranges"},
+  };
+  for (const Case& c : cases) {
+    sensor_msgs::LaserScan m = fiveRayScan();
+    c.spoil(&m);
+    LaserScan s;
+    std::string why;
+    EXPECT_FALSE(scanFromRos(m, Pose2(), false, 0.0f, &s, &why, 10000)) << c.what;
+    EXPECT_NE(why.find(c.field), std::string::npos) << c.what << ": " << why;
+  }
+  // Accepted: intensities one per range, angle_max one step beyond the last ray, and a clockwise
+  // scan (negative increment from angle_min down to angle_max).
+  sensor_msgs::LaserScan m = fiveRayScan();
+  m.intensities.assign(5, 1.0f);
+  m.angle_max = 0.3f;
+  LaserScan s;
+  std::string why;
+  EXPECT_TRUE(scanFromRos(m, Pose2(), false, 0.0f, &s, &why, 10000)) << why;
+  m = fiveRayScan();
+  m.angle_min = 0.2f;
+  m.angle_max = -0.2f;
+  m.angle_increment = -0.1f;
+  EXPECT_TRUE(scanFromRos(m, Pose2(), false, 0.0f, &s, &why, 10000)) << why;
 }
 
 // Core -> ROS -> core keeps ranges, bearings and no-return flags.

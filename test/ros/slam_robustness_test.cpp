@@ -6,12 +6,17 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <string>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/GetMap.h>
 #include <ros/ros.h>
 
 #include "evidential_slam/SaveMap.h"
 #include "room_robot.h"
+#include "ros_test_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -51,9 +56,58 @@ TEST(SlamRobustness, NanAndInfRangesAreSkipped) {
   EXPECT_TRUE(robot->warned("unusable", 10.0));
 }
 
+TEST(SlamRobustness, MalformedScansAreDroppedWithAWarningNamingTheField) {
+  robot->step(111.0, "laser", [](sensor_msgs::LaserScan* m) { m->intensities.assign(3, 1.0f); });
+  EXPECT_TRUE(robot->warned("malformed LaserScan", 10.0));
+  EXPECT_TRUE(robot->warned("intensities has 3 values", 1.0));
+  EXPECT_FALSE(robot->poseAt(111.0, 0.5));
+  robot->step(112.0);
+  EXPECT_TRUE(robot->poseAt(112.0, 10.0));
+}
+
+// One scan stamped 1.5 s behind its neighbours: dropped and reported, no restart. (Later than
+// the throttle, 5 s of ROS time, of the earlier tests' warnings.)
+TEST(SlamRobustness, OneStampBehindIsAnOutlierNotARestart) {
+  robot->step(116.0);
+  robot->step(117.0, "laser",
+              [](sensor_msgs::LaserScan* m) { m->header.stamp = ros::Time(114.5); });
+  EXPECT_TRUE(robot->warned("an outlier", 10.0));
+  robot->step(118.0);
+  EXPECT_TRUE(robot->poseAt(118.0, 10.0));
+  EXPECT_FALSE(robot->warned("jumped back", 0.5));  // no restart
+}
+
+// The heartbeat counts what was dropped, once a second, whatever the robot does.
+TEST(SlamRobustness, HeartbeatOnDiagnosticsCountsTheDrops) {
+  std::mutex mutex;
+  std::map<std::string, std::string> values;
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& status : m->status) {
+          if (status.name.find("heartbeat") == std::string::npos) continue;
+          std::lock_guard<std::mutex> lock(mutex);
+          for (const auto& kv : status.values) values[kv.key] = kv.value;
+        }
+      });
+  // Wall-timed: no scan and no clock tick while waiting.
+  const bool seen = testing_ros::waitUntil(
+      mutex, [&] { return values.count("dropped: malformed") > 0; }, 10.0);
+  ASSERT_TRUE(seen);
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_GE(std::stoi(values["dropped: malformed"]), 1);
+  EXPECT_GE(std::stoi(values["dropped: stamp outlier"]), 1);
+  EXPECT_GE(std::stoi(values["dropped: no transform"]), 1);
+  EXPECT_GE(std::stoi(values["scans received"]), 10);
+  EXPECT_EQ(values["restarts"], "0");
+  EXPECT_TRUE(values.count("queue length"));
+  EXPECT_TRUE(values.count("latency max (s)"));
+  EXPECT_TRUE(values.count("conflict alarm"));
+}
+
 TEST(SlamRobustness, TimeJumpingBackRestartsTheSlam) {
-  robot->step(111.0);
-  ASSERT_TRUE(robot->poseAt(111.0, 10.0));
+  robot->step(119.0);
+  ASSERT_TRUE(robot->poseAt(119.0, 10.0));
   for (int i = 0; i < 3; ++i) robot->step(100.0 + i);  // the bag loops
   EXPECT_TRUE(robot->warned("time jumped back", 15.0));
   EXPECT_TRUE(robot->poseAt(102.0, 10.0));  // and it maps again

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
 #include <future>
 #include <string>
 #include <thread>
@@ -10,6 +11,7 @@
 
 #include "evidential_slam/ros/slam_worker.h"
 #include "test_support.h"
+#include "test_util.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -70,7 +72,8 @@ TEST(SlamWorker, HandlesScansInOrderAndSharesTheMap) {
   EXPECT_EQ(received, 4u);
 }
 
-// Back by more than the tolerance: restart (with a warning); back by less: the scan is dropped.
+// Back by less than the tolerance: the scan is dropped. Back by more: an outlier, unless
+// time_jump_scans scans in a row are (a looping bag): then a restart, with a warning.
 TEST(SlamWorker, TimeJumpsRestartOrDrop) {
   Recorder rec;
   SlamWorker worker(smallConfig(), 100, rec.callbacks());
@@ -83,18 +86,50 @@ TEST(SlamWorker, TimeJumpsRestartOrDrop) {
   EXPECT_EQ(rec.restarts, 0);
   const uint64_t version_before = worker.latestMap().version;
 
-  worker.push(Pose2(), roomScan(Pose2(), 50.0));  // a looping bag
+  worker.push(Pose2(), roomScan(Pose2(), 50.0));  // a looping bag: outliers until the third
+  worker.push(Pose2(), roomScan(Pose2(), 50.5));
+  worker.waitIdle();
+  EXPECT_EQ(rec.restarts, 0);
+  EXPECT_EQ(worker.stats().stamp_outliers, 2u);
+  worker.push(Pose2(), roomScan(Pose2(), 51.0));
   worker.waitIdle();
   EXPECT_EQ(rec.restarts, 1);
   EXPECT_EQ(worker.resets(), 1u);
   EXPECT_NE(rec.warnings.back().find("time jumped back"), std::string::npos);
-  EXPECT_EQ(rec.stamps.back(), 50.0);
+  EXPECT_EQ(rec.stamps.back(), 51.0);
   EXPECT_TRUE(rec.processed.back());  // the first scan of the new run
   EXPECT_GT(worker.latestMap().version, version_before);
   uint64_t received = 0;
   worker.runOnWorker(
       [&](const MappingSession& s) { received = s.engine().stats().scans_received; });
   EXPECT_EQ(received, 1u);  // the engine started over
+  const WorkerStats stats = worker.stats();
+  EXPECT_EQ(stats.handled, 5u);
+  EXPECT_EQ(stats.dropped, 1u);
+  EXPECT_EQ(stats.restarts, 1u);
+  EXPECT_GE(stats.max_latency_s, stats.last_latency_s);
+  EXPECT_GT(stats.last_latency_s, 0.0);
+}
+
+// A restart the front end asks for (its clock went back) comes after the scans already queued,
+// saves the map first, and the next scan starts the new run.
+TEST(SlamWorker, RequestedRestartSavesTheMapInOrder) {
+  const std::filesystem::path root = test::scratchDir();
+  Recorder rec;
+  SlamWorker worker(smallConfig(), 100, rec.callbacks());
+  worker.setResetSaveRoot(root.string());
+  worker.push(Pose2(), roomScan(Pose2(), 100.0));
+  worker.push(Pose2(0.6, 0, 0), roomScan(Pose2(), 101.0));
+  worker.requestRestart("ROS time jumped back by 60 s");
+  worker.push(Pose2(), roomScan(Pose2(), 41.0));
+  worker.waitIdle();
+  EXPECT_EQ(rec.restarts, 1);
+  EXPECT_EQ(rec.stamps, (std::vector<double>{100.0, 101.0, 41.0}));
+  const std::string& w = rec.warnings.back();
+  EXPECT_NE(w.find("ROS time jumped back by 60 s: the SLAM starts over"), std::string::npos) << w;
+  EXPECT_TRUE(std::filesystem::is_regular_file(root / "before_reset_101.000" / "trajectory.tum"))
+      << w;
+  EXPECT_EQ(worker.stats().last_reset_save, (root / "before_reset_101.000").string());
 }
 
 TEST(SlamWorker, FullQueueRefusesScans) {

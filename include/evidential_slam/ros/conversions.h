@@ -30,13 +30,21 @@ geometry_msgs::TransformStamped toTransformStamped(const Pose2& pose, const ros:
 geometry_msgs::Pose toPoseMsg(const Pose2& pose);
 Pose2 pose2FromPoseMsg(const geometry_msgs::Pose& pose);
 
+// Smallest |angle_increment| taken for a scan (rad): 1e-6 rad is over six million rays a turn.
+constexpr double kMinAngleIncrement = 1e-6;
+
+// True when `msg` can be a scan: 1 to `max_rays` ranges, finite angles, |angle_increment| of at
+// least kMinAngleIncrement going from angle_min towards angle_max, at most one turn, as many ranges
+// as the angles imply (give or take one), intensities empty or one per range, 0 <= range_min <
+// range_max, both finite. Else false and `why` names the field and what is wrong with it.
+bool checkLaserScan(const sensor_msgs::LaserScan& msg, int max_rays, std::string* why);
+
 // sensor_msgs/LaserScan -> core scan, by REP-117: +inf (and readings beyond range_max) are
 // "no return" rays; NaN, -inf and readings below range_min are bad data the core skips.
 // `laser_in_base` is the laser's pose on the robot (from tf); with `upside_down` the bearings are
-// mirrored. False (and `why`) when the message cannot be a scan (no ray, zero or non-finite
-// angle increment, non-positive range_max).
+// mirrored. False (and `why`) when checkLaserScan refuses the message.
 bool scanFromRos(const sensor_msgs::LaserScan& msg, const Pose2& laser_in_base, bool upside_down,
-                 float range_sigma, LaserScan* out, std::string* why);
+                 float range_sigma, LaserScan* out, std::string* why, int max_rays = 100000);
 
 // Core scan -> sensor_msgs/LaserScan (evenly spaced bearings; rays flagged "no return" become
 // +inf). False (and `why`) when the bearings are not evenly spaced within `tolerance` rad.

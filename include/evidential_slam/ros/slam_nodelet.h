@@ -5,10 +5,12 @@
 // thread.
 #pragma once
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
 
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <message_filters/subscriber.h>
 #include <nodelet/nodelet.h>
@@ -65,6 +67,7 @@ class SlamNodelet : public nodelet::Nodelet {
   bool startFromParameters(std::string* why);
   // The latest odom -> base pose from tf, if there is one.
   bool currentOdometry(Pose2* odometry);
+  void heartbeat(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   ros::NodeHandle nh_, private_nh_;
   std::mutex params_mutex_;
@@ -95,6 +98,19 @@ class SlamNodelet : public nodelet::Nodelet {
   std::map<sensor_msgs::LaserScan::ConstPtr, ros::WallTime> in_filter_;
   std::unique_ptr<dynamic_reconfigure::Server<EvidentialSlamConfig>> reconfigure_server_;
   boost::recursive_mutex reconfigure_mutex_;
+
+  // The heartbeat on /diagnostics (once a second, wall time: also while nothing moves): scan
+  // rate, queue, latency, every kind of drop, restarts and the conflict alarm.
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer heartbeat_timer_;
+  std::atomic<uint64_t> scans_received_{0};   // every LaserScan that arrived
+  std::atomic<uint64_t> scans_malformed_{0};  // refused by checkLaserScan
+  std::atomic<uint64_t> scans_without_tf_{0};
+  uint64_t heartbeat_received_ = 0;  // scans_received_ at the last heartbeat
+  ros::WallTime heartbeat_time_;
+  // ROS time of the last scan's arrival: when it goes back (the /clock of a looping bag) the SLAM
+  // starts over at once (watchdog_mutex_).
+  ros::Time last_arrival_ros_time_;
 
   std::unique_ptr<SlamWorker> worker_;
   std::unique_ptr<MapPublisher> map_publisher_;

@@ -3,6 +3,7 @@
 // callbacks to publishers.
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -25,6 +26,20 @@ struct MapSnapshot {
   std::shared_ptr<const AnomalyNode> anomaly;      // the best particle's (core/anomaly.h)
 };
 
+// What the worker has done so far (the node's heartbeat on /diagnostics).
+struct WorkerStats {
+  uint64_t handled = 0;           // scans taken off the queue
+  uint64_t dropped = 0;           // ... older than the previous one (MappingSession::scansDropped)
+  uint64_t stamp_outliers = 0;    // ... with an outlier stamp
+  uint64_t refused = 0;           // ... beyond a limit
+  uint64_t restarts = 0;          // times the SLAM started over
+  uint64_t queue_full_drops = 0;  // scans push() refused
+  double last_latency_s = 0.0;    // from push() to the end of the scan's processing (wall time)
+  double max_latency_s = 0.0;
+  bool conflict_alarm = false;  // the alarm's verdict on the last processed scan
+  std::string last_reset_save;  // where the map went before the last restart (empty: none)
+};
+
 class SlamWorker {
  public:
   struct Callbacks {
@@ -45,6 +60,13 @@ class SlamWorker {
   // full: the filter is slower than the sensor.
   bool push(const Pose2& odometry, const LaserScan& scan);
 
+  // Starts the SLAM over, for `reason` (the clock jumped back), after the scans already queued
+  // and before those pushed later, saving the map first (MappingSession::restart); the message
+  // goes to on_warning as a restart.
+  void requestRestart(const std::string& reason);
+  // Where the session saves maps before a restart (MappingSession::setResetSaveRoot).
+  void setResetSaveRoot(const std::string& root);
+
   // New run-time parameters, applied before the next scan. False (and `why`) when invalid.
   bool reconfigure(const Parameters& params, std::string* why);
 
@@ -62,11 +84,13 @@ class SlamWorker {
   void waitIdle();
   size_t queued() const;
   uint64_t resets() const;
+  WorkerStats stats() const;
 
  private:
   void run();
   // Queues `task` for the worker thread and waits until it ran.
   void runTask(const std::function<void()>& task);
+  void afterRestart();  // on the worker thread, after the session started over
 
   MappingSession session_;
   const size_t max_queue_;
@@ -75,6 +99,8 @@ class SlamWorker {
   struct Item {
     Pose2 odometry;
     LaserScan scan;
+    std::chrono::steady_clock::time_point pushed;
+    std::string restart;  // not a scan: start over for this reason (requestRestart)
   };
   mutable std::mutex mutex_;
   std::condition_variable wake_;
@@ -82,10 +108,12 @@ class SlamWorker {
   std::deque<Item> queue_;
   std::deque<std::function<void()>> tasks_;
   std::unique_ptr<Parameters> pending_params_;
+  std::string reset_save_root_;  // for the session, handed over on the worker thread
   bool busy_ = false;
   bool stop_ = false;
   MapSnapshot map_;
   uint64_t resets_ = 0;
+  WorkerStats stats_;
   std::thread thread_;  // last: starts after everything above exists
 };
 

@@ -63,10 +63,10 @@ struct MapSave {
 // whether mapping was paused. Read the session where it does not run (the node's worker thread).
 MapSave captureMapSave(const MappingSession& session);
 
-// Writes the files above into `dir` (created if missing). They replace the previous files together
-// once all are written (io/atomic_files.h): staged into `staged` when given (the caller commits it
-// with files of its own), else committed here. False with a one-line `error` on the first file
-// that cannot be written; the previous files are then left as they were.
+// Writes the files above into `dir` (created if missing). They replace the previous files
+// (map.evmap too) together once all are written (io/atomic_files.h): staged into `staged` when
+// given (the caller commits it with files of its own), else committed here. False with a one-line
+// `error` on the first file that cannot be written; the previous files are then left as they were.
 bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionConfig& config,
                    MapFilesReport* report, std::string* error, io::AtomicFiles* staged = nullptr);
 

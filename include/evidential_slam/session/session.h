@@ -1,7 +1,15 @@
-// What both front ends do around the SLAM engine, once: the order of the scans (a scan older than
-// the previous one is dropped; a jump back beyond time_jump_tolerance, a looping bag, starts
-// over), the conflict alarm and its per-scan record. The offline runner feeds it a rawlog, the
-// ROS node's worker thread feeds it LaserScans; both write its map files with writeMapFiles.
+// What both front ends do around the SLAM engine, once: the checks on each scan (stamp, size,
+// where the robot is), the order of the scans and the time-jump policy, the conflict alarm and its
+// per-scan record. The offline runner feeds it a rawlog, the ROS node's worker thread feeds it
+// LaserScans; both write its map files with writeMapFiles.
+//
+// Time stamps: a scan older than the previous one by at most time_jump_tolerance is dropped. A
+// scan further back, or further ahead than time_jump_forward, is a jump: one jump alone is an
+// outlier (a driver's glitch, a stamp of 0), dropped and reported. Only time_jump_scans jumps in
+// a row are believed: back, the SLAM starts over (a looping bag); ahead, time goes on from there.
+// A front end that sees its clock go back (ROS time of a looping bag) calls restart() at once.
+// Before any restart the map is saved (writeMapFiles) into <reset_save_root>/before_reset_<stamp>/
+// when save_before_reset is set and the front end gave a root.
 #pragma once
 
 #include <cstdint>
@@ -28,13 +36,17 @@ struct SessionScanResult {
   enum class Order {
     kInOrder,    // handed to the engine
     kDropped,    // older than the previous scan, within the tolerance: not used
-    kRestarted,  // time jumped back beyond the tolerance: the SLAM started over with this scan
+    kOutlier,    // its stamp jumped (back or ahead) while its neighbours' did not (yet): not used
+    kRefused,    // beyond a limit (rays, distance from the start, stamp not finite): not used
+    kRestarted,  // time jumped back for time_jump_scans scans: the SLAM started over with this one
   };
   Order order = Order::kInOrder;
   double stamp = 0.0;        // the scan's
-  std::string message;       // one line, for kDropped and kRestarted
-  ScanUpdate update;         // the engine's answer (unless dropped)
+  std::string message;       // one line, for every order but kInOrder
+  ScanUpdate update;         // the engine's answer (kInOrder and kRestarted)
   ConflictAlarmState alarm;  // when update.processed
+
+  bool used() const { return order == Order::kInOrder || order == Order::kRestarted; }
 };
 
 class MappingSession {
@@ -51,6 +63,9 @@ class MappingSession {
   void reset();
   // Starts over from nothing: forgets the map startFromMap gave, then reset().
   void startOver();
+  // Starts over for `reason` (e.g. "ROS time jumped back by 60 s"), after saving the map as
+  // described above. One line saying what was done (and where the map went) goes to `message`.
+  void restart(const std::string& reason, std::string* message);
   // Starts over on `map` at `pose` (SlamEngine::startFromMap, which says what `odometry` does),
   // e.g. a map file read with io::readMapFile. A map of another resolution than the session's
   // replaces the engine by one of the map's resolution (parameters().slam.resolution follows).
@@ -61,6 +76,8 @@ class MappingSession {
   // The map a start at a pose the user gives (a node's /initialpose) should use: the best
   // particle's map, or, before the first scan, the map startFromMap gave or an empty one.
   EvidentialGridMap currentMap() const;
+  // Where maps are saved before a restart (a directory, created when needed); empty: not saved.
+  void setResetSaveRoot(const std::string& root) { reset_save_root_ = root; }
 
   // Pauses or resumes mapping (SlamEngine::setMappingPaused): paused, scans localize on the maps
   // as they are and change none; they feed neither the conflict alarm nor the conflict record
@@ -72,16 +89,31 @@ class MappingSession {
   const Parameters& parameters() const { return params_; }
   const std::vector<ConflictRecord>& conflictLog() const { return conflict_log_; }
   uint64_t scansDropped() const { return dropped_; }
+  uint64_t stampOutliers() const { return outliers_; }
+  uint64_t scansRefused() const { return refused_; }
   uint64_t restarts() const { return restarts_; }
+  // The directory of the last map saved before a restart (empty if none).
+  const std::string& lastResetSave() const { return last_reset_save_; }
 
  private:
+  // Saves the map before a restart; one line for the message.
+  std::string saveBeforeReset();
+
   Parameters params_;
   std::unique_ptr<SlamEngine> engine_;
   ConflictAlarm alarm_;
   std::vector<ConflictRecord> conflict_log_;
   bool have_last_stamp_ = false;
   double last_stamp_ = 0.0;
+  int jumps_in_a_row_ = 0;  // consecutive outlier stamps, all back or all ahead
+  bool jump_back_ = false;  // their direction
+  bool have_origin_ = false;
+  Pose2 origin_;  // the odometry pose of the first scan used (max_map_extent is from here)
+  std::string reset_save_root_;
+  std::string last_reset_save_;
   uint64_t dropped_ = 0;
+  uint64_t outliers_ = 0;
+  uint64_t refused_ = 0;
   uint64_t restarts_ = 0;
 };
 

@@ -1,0 +1,185 @@
+// Tests of MappingSession (session/session.h): the time-stamp policy (outliers dropped, a real
+// restart only after time_jump_scans stamps back in a row, the map saved before it) and the limits
+// on a scan (rays, ranges, the distance from where the map started, stamps).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+
+#include "evidential_slam/session/session.h"
+#include "test_support.h"
+#include "test_util.h"
+
+namespace evidential_slam {
+namespace {
+
+namespace fs = std::filesystem;
+using Order = SessionScanResult::Order;
+using testing_room::roomScan;
+
+Parameters smallConfig() {
+  Parameters p;
+  p.slam = testing_room::withoutRealRobotSettings(p.slam);
+  p.slam.particles = 4;
+  p.slam.threads = 1;
+  p.session.time_jump_tolerance = 1.0;
+  p.session.time_jump_scans = 3;
+  p.session.time_jump_forward = 100.0;
+  return p;
+}
+
+// The robot moves 0.6 m per second along x: every in-order scan passes the 0.5 m motion gate.
+SessionScanResult feed(MappingSession* s, double t) {
+  const Pose2 odometry(0.6 * (t - 100.0), 0.0, 0.0);
+  return s->processScan(odometry, roomScan(Pose2(), t));
+}
+
+TEST(MappingSession, ASingleStampBackIsAnOutlierAndTheMapStays) {
+  MappingSession s(smallConfig());
+  for (double t : {100.0, 101.0, 102.0}) EXPECT_EQ(feed(&s, t).order, Order::kInOrder);
+  const uint64_t processed = s.engine().stats().scans_processed;
+  // A driver's glitch: a stamp of 0, then one 2 s behind.
+  SessionScanResult r = feed(&s, 0.0);
+  EXPECT_EQ(r.order, Order::kOutlier);
+  EXPECT_NE(r.message.find("outlier"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("102.000"), std::string::npos) << r.message;
+  EXPECT_EQ(feed(&s, 103.0).order, Order::kInOrder);
+  r = feed(&s, 101.5);
+  EXPECT_EQ(r.order, Order::kOutlier) << r.message;
+  EXPECT_EQ(feed(&s, 104.0).order, Order::kInOrder);
+  EXPECT_EQ(s.stampOutliers(), 2u);
+  EXPECT_EQ(s.restarts(), 0u);
+  EXPECT_EQ(s.engine().stats().scans_processed, processed + 2);
+}
+
+TEST(MappingSession, StampsBackForTimeJumpScansRestartAfterSavingTheMap) {
+  const fs::path root = test::scratchDir();
+  MappingSession s(smallConfig());
+  s.setResetSaveRoot(root.string());
+  for (double t : {100.0, 101.0, 102.0, 103.0}) feed(&s, t);
+  EXPECT_EQ(feed(&s, 50.0).order, Order::kOutlier);  // a looping bag: 1 of 3
+  EXPECT_EQ(feed(&s, 51.0).order, Order::kOutlier);  // 2 of 3
+  const SessionScanResult r = feed(&s, 52.0);        // 3 of 3: a real restart
+  EXPECT_EQ(r.order, Order::kRestarted);
+  EXPECT_NE(r.message.find("time jumped back"), std::string::npos) << r.message;
+  EXPECT_EQ(s.restarts(), 1u);
+  EXPECT_EQ(s.engine().stats().scans_received, 1u);  // started over with this scan
+  EXPECT_TRUE(r.update.processed);
+  // The map of the first run, saved before the reset, where the message says.
+  const fs::path saved = root / "before_reset_103.000";
+  EXPECT_EQ(s.lastResetSave(), saved.string());
+  EXPECT_NE(r.message.find(saved.string()), std::string::npos) << r.message;
+  EXPECT_TRUE(fs::is_regular_file(saved / "trajectory.tum"));
+  EXPECT_TRUE(fs::is_regular_file(saved / "layers" / "pignistic.png"));
+  EXPECT_NE(test::readText(saved / "trajectory.tum").find("103.0"), std::string::npos);
+  EXPECT_EQ(feed(&s, 53.0).order, Order::kInOrder);
+}
+
+TEST(MappingSession, OneStepBackWithinTheToleranceIsDropped) {
+  MappingSession s(smallConfig());
+  feed(&s, 100.0);
+  const SessionScanResult r = feed(&s, 99.5);
+  EXPECT_EQ(r.order, Order::kDropped);
+  EXPECT_NE(r.message.find("older"), std::string::npos) << r.message;
+  EXPECT_EQ(s.scansDropped(), 1u);
+}
+
+TEST(MappingSession, OutliersInBetweenDoNotAddUpToARestart) {
+  MappingSession s(smallConfig());
+  for (double t = 100.0; t < 110.0; t += 1.0) {
+    feed(&s, t);
+    EXPECT_EQ(feed(&s, 0.0).order, Order::kOutlier);  // every other scan, never 3 in a row
+  }
+  EXPECT_EQ(s.restarts(), 0u);
+  EXPECT_EQ(s.stampOutliers(), 10u);
+}
+
+TEST(MappingSession, AStampFarAheadIsAnOutlierUnlessTheNextOnesFollow) {
+  MappingSession s(smallConfig());
+  // The robot stands still: only the stamps change.
+  auto at = [&s](double t) { return s.processScan(Pose2(), roomScan(Pose2(), t)).order; };
+  EXPECT_EQ(at(100.0), Order::kInOrder);
+  EXPECT_EQ(at(1e12), Order::kOutlier);  // far in the future
+  EXPECT_EQ(at(101.0), Order::kInOrder);
+  // Time really moved on (the robot stood by for an hour): believed at the third scan.
+  EXPECT_EQ(at(5000.0), Order::kOutlier);
+  EXPECT_EQ(at(5001.0), Order::kOutlier);
+  EXPECT_EQ(at(5002.0), Order::kInOrder);
+  EXPECT_EQ(at(5003.0), Order::kInOrder);
+  EXPECT_EQ(s.restarts(), 0u);
+}
+
+TEST(MappingSession, RestartWithoutASaveDirectorySaysSo) {
+  MappingSession s(smallConfig());
+  feed(&s, 100.0);
+  std::string message;
+  s.restart("ROS time jumped back by 10 s", &message);
+  EXPECT_NE(message.find("ROS time jumped back by 10 s: the SLAM starts over"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("not saved"), std::string::npos) << message;
+  EXPECT_EQ(s.restarts(), 1u);
+  EXPECT_EQ(s.engine().stats().scans_received, 0u);
+}
+
+TEST(MappingSession, AnUnwritableSaveDirectoryStillRestarts) {
+  MappingSession s(smallConfig());
+  s.setResetSaveRoot("/proc/evidential_slam_cannot_write_here");
+  feed(&s, 100.0);
+  std::string message;
+  s.restart("test", &message);
+  EXPECT_NE(message.find("could not be saved"), std::string::npos) << message;
+  EXPECT_EQ(s.restarts(), 1u);
+}
+
+TEST(MappingSession, LimitsRefuseScansWithAClearMessage) {
+  Parameters p = smallConfig();
+  p.session.max_scan_rays = 1000;
+  p.session.max_map_extent = 100.0;
+  MappingSession s(p);
+  LaserScan big = roomScan(Pose2(), 100.0);
+  big.ranges.assign(1001, 1.0f);
+  big.bearings.assign(1001, 0.0f);
+  big.valid.assign(1001, 1);
+  SessionScanResult r = s.processScan(Pose2(), big);
+  EXPECT_EQ(r.order, Order::kRefused);
+  EXPECT_NE(r.message.find("max_scan_rays"), std::string::npos) << r.message;
+
+  LaserScan nan_stamp = roomScan(Pose2(), std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(s.processScan(Pose2(), nan_stamp).order, Order::kRefused);
+  EXPECT_EQ(s.processScan(Pose2(std::numeric_limits<double>::infinity(), 0, 0),
+                          roomScan(Pose2(), 100.0))
+                .order,
+            Order::kRefused);
+
+  EXPECT_EQ(s.processScan(Pose2(5.0, 5.0, 0.0), roomScan(Pose2(), 100.0)).order, Order::kInOrder);
+  r = s.processScan(Pose2(1e7, 0.0, 0.0), roomScan(Pose2(), 101.0));  // 10^7 m away
+  EXPECT_EQ(r.order, Order::kRefused);
+  EXPECT_NE(r.message.find("max_map_extent"), std::string::npos) << r.message;
+  EXPECT_EQ(s.scansRefused(), 4u);
+  EXPECT_EQ(s.engine().stats().scans_received, 1u);
+}
+
+// Ranges of 10^9 m are clipped at usable_range: the map stays the size of what the laser can
+// map, not of what it claims.
+TEST(MappingSession, HugeRangesAreClippedAtTheUsableRange) {
+  Parameters p = smallConfig();
+  MappingSession s(p);
+  LaserScan far = roomScan(Pose2(), 100.0);
+  far.max_range = 1e9f;
+  for (float& z : far.ranges) z = 1e9f;
+  std::fill(far.valid.begin(), far.valid.end(), 1);
+  const SessionScanResult r = s.processScan(Pose2(), far);
+  EXPECT_EQ(r.order, Order::kInOrder);
+  const int reach = static_cast<int>((p.slam.sensor.usable_range + 1.0) / p.slam.resolution);
+  const CellBox box = s.engine().bestMap().observedBox();
+  ASSERT_FALSE(box.empty());
+  EXPECT_LE(std::max(std::abs(box.min_x), std::abs(box.max_x)), reach);
+  EXPECT_LE(std::max(std::abs(box.min_y), std::abs(box.max_y)), reach);
+  EXPECT_GT(box.width(), reach);  // the rays did clear space out to about usable_range
+}
+
+}  // namespace
+}  // namespace evidential_slam
