@@ -419,7 +419,7 @@ double BeamModel::integrateScan(const TracedScan& traced, EvidentialGridMap* map
   if (conflict != nullptr) *conflict = ScanConflict{};
   if (traced.cells.empty()) return 0.0;
   accumulateScan(traced, scratch);
-  return applyScan(scratch, map, conflict);
+  return applyScan(*scratch, map, conflict);
 }
 
 void BeamModel::accumulateScan(const TracedScan& traced, ScanAccumulator* scratch) const {
@@ -432,7 +432,6 @@ void BeamModel::accumulateScan(const TracedScan& traced, ScanAccumulator* scratc
       addEvidence(scratch, c.x, c.y, c.distance, b.range, b.hit);
     }
   }
-  return applyScan(*scratch, map, conflict);
 }
 
 double BeamModel::applyScan(const ScanAccumulator& scratch, EvidentialGridMap* map,
