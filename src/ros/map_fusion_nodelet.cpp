@@ -16,33 +16,11 @@
 #include "evidential_slam/core/fusion/map_fusion.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/ros/conversions.h"
+#include "evidential_slam/ros/parameter_text.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
 namespace {
-
-// A parameter server value as the text the table's parsers read; false for arrays and structs.
-bool asText(XmlRpc::XmlRpcValue& value, std::string* text) {
-  switch (value.getType()) {
-    case XmlRpc::XmlRpcValue::TypeInt:
-      *text = std::to_string(static_cast<int>(value));
-      return true;
-    case XmlRpc::XmlRpcValue::TypeDouble: {
-      char buffer[40];
-      std::snprintf(buffer, sizeof(buffer), "%.17g", static_cast<double>(value));
-      *text = buffer;
-      return true;
-    }
-    case XmlRpc::XmlRpcValue::TypeBoolean:
-      *text = static_cast<bool>(value) ? "true" : "false";
-      return true;
-    case XmlRpc::XmlRpcValue::TypeString:
-      *text = static_cast<std::string>(value);
-      return true;
-    default:
-      return false;
-  }
-}
 
 bool readNumber(const std::string& name, double* value) {
   XmlRpc::XmlRpcValue v;
@@ -85,7 +63,7 @@ bool readMapFusionParams(const ros::NodeHandle& nh, MapFusionParams* params, std
     XmlRpc::XmlRpcValue value;
     if (!ok || !nh.getParam(spec.name, value)) return;
     std::string text;
-    if (!asText(value, &text)) {
+    if (!parameterText(value, &text)) {
       ok = false;
       if (why != nullptr) *why = std::string(spec.name) + " must be a single value";
       return;

@@ -1,4 +1,5 @@
 #include "evidential_slam/ros/params.h"
+#include "evidential_slam/ros/parameter_text.h"
 
 #include <cstdio>
 
@@ -24,8 +25,9 @@ void forEachReconfigurable(Params& p, Cfg& cfg, Visitor&& visit) {
   ES_NODE_PARAMETERS(ES_BIND_RECONFIGURE, p)
 }
 
-// A parameter server value as the text the table's parsers read; false for arrays and structs.
-bool asText(XmlRpc::XmlRpcValue& value, std::string* text) {
+}  // namespace
+
+bool parameterText(XmlRpc::XmlRpcValue& value, std::string* text) {
   switch (value.getType()) {
     case XmlRpc::XmlRpcValue::TypeInt:
       *text = std::to_string(static_cast<int>(value));
@@ -46,8 +48,6 @@ bool asText(XmlRpc::XmlRpcValue& value, std::string* text) {
       return false;
   }
 }
-
-}  // namespace
 
 bool NodeParams::isValid(std::string* why) const {
   auto fail = [why](const std::string& what) {
@@ -74,7 +74,7 @@ bool readParams(const ros::NodeHandle& nh, NodeParams* params, std::string* why,
     XmlRpc::XmlRpcValue value;
     if (!ok || !nh.getParam(spec.name, value)) return;
     std::string text;
-    if (!asText(value, &text)) {
+    if (!parameterText(value, &text)) {
       ok = false;
       if (why != nullptr) *why = std::string(spec.name) + " must be a single value";
       return;
