@@ -356,7 +356,8 @@ TEST(LayerWriter, AFailedSaveLeavesThePreviousFiles) {
       writeMapServerLayers(uniformRaster(0.2f), dir.string(), LayerWriterConfig(), &pairs, &error))
       << error;
   const auto before = contentsOf(dir);
-  ASSERT_EQ(before.size(), 21u + 18u);
+  // Each layer as PNG + NPY with composite.png, observed.npy and map.yaml; each as a PGM + YAML.
+  ASSERT_EQ(before.size(), (2u * kLayerCount + 3u) + 2u * kLayerCount);
   for (int writer = 0; writer < 2; ++writer) {
     const int status = test::runInChild(
         [&] {
