@@ -10,33 +10,16 @@
 #include "evidential_slam/core/sensor_model.h"
 #include "evidential_slam/core/slam_engine.h"
 #include "test_support.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
+using namespace testing_cells;
+
 constexpr double kRes = 0.05;
 // Stored masses are multiples of 2^-23: bits computed from the nominal values agree to ~1e-5.
 constexpr double kBits = 1e-4;
-
-Cell makeCell(float occupied, float free, float lambda = 0.0f) {
-  return Cell::fromStored(occupied, free, lambda);
-}
-
-// Cells (x, y) for x, y in [-10, 10] hold `c`.
-EvidentialGridMap filledMap(const Cell& c) {
-  EvidentialGridMap map(kRes);
-  for (int y = -10; y <= 10; ++y) {
-    for (int x = -10; x <= 10; ++x) map.mutableCell(x, y) = c;
-  }
-  return map;
-}
-
-ScanMass scanMass(float occupied, float free) {
-  ScanMass m;
-  m.occupied = occupied;
-  m.free = free;
-  return m;
-}
 
 std::vector<AnomalyCell> anomalyOf(const ScanAccumulator& acc, const EvidentialGridMap& map) {
   std::vector<AnomalyCell> out;
@@ -47,8 +30,8 @@ std::vector<AnomalyCell> anomalyOf(const ScanAccumulator& acc, const EvidentialG
 // A hit on open floor: K = m̃(e) s(o), anomaly -log2(1 - K). Hits whose K is below 1/2, or with a
 // cell the map does not believe free within 2 cells, add none; clearing beams on free floor none.
 TEST(ScanAnomaly, HitInOpenSpace) {
-  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
-  map.mutableCell(6, 0) = makeCell(0.7f, 0.2f);  // a wall cell
+  EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
+  map.mutableCell(6, 0) = storedCell(0.7f, 0.2f);  // a wall cell
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 16);
   acc.add(0, 0, scanMass(0.8f, 0.0f));   // K = 0.792: 2.2655 bits
@@ -75,9 +58,9 @@ TEST(ScanAnomaly, HitInOpenSpace) {
 // A cell the map holds occupied that the scan clears: K = m̃(o) s(e). Not when the scan itself
 // puts a surface (s(o) >= 0.05) within 2 cells of it: a beam grazing a wall it hits next to.
 TEST(ScanAnomaly, PassThroughAnObstacle) {
-  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
-  for (int y = -1; y <= 1; ++y) map.mutableCell(0, y) = makeCell(0.9f, 0.05f);
-  map.mutableCell(0, 5) = makeCell(0.6f, 0.3f);  // occupied, but 0.6 * 0.8 < 1/2
+  EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
+  for (int y = -1; y <= 1; ++y) map.mutableCell(0, y) = storedCell(0.9f, 0.05f);
+  map.mutableCell(0, 5) = storedCell(0.6f, 0.3f);  // occupied, but 0.6 * 0.8 < 1/2
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 16);
   for (int x = -5; x <= 5; ++x) acc.add(x, 0, scanMass(0.0f, 0.8f));  // a beam through the door
@@ -105,8 +88,8 @@ TEST(ScanAnomaly, PassThroughAnObstacle) {
 // The anomaly rules read the map before the scan: anomaly is what the update's conflict would be,
 // in bits, on the cells they pass (EC's increment there).
 TEST(ScanAnomaly, EqualsTheExternalConflictTheUpdateAddsThere) {
-  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
-  map.mutableCell(-6, 0) = makeCell(0.95f, 0.0f);
+  EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
+  map.mutableCell(-6, 0) = storedCell(0.95f, 0.0f);
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 16);
   acc.add(0, 0, scanMass(0.62f, 0.0f));
@@ -156,7 +139,7 @@ TEST(AnomalyGrid, AccumulatesAlongALineage) {
 // without a grid; cells outside the box are left out.
 TEST(AnomalyGrid, FillsTheAnomalyLayer) {
   EvidentialGridMap map(kRes);
-  for (int x = 0; x < 4; ++x) map.mutableCell(x, 0) = makeCell(0.5f, 0.2f);
+  for (int x = 0; x < 4; ++x) map.mutableCell(x, 0) = storedCell(0.5f, 0.2f);
   AnomalyGrid anomaly;
   anomaly.add(2, 0, 3.0f);
   anomaly.add(100, 100, 1.0f);
@@ -167,7 +150,7 @@ TEST(AnomalyGrid, FillsTheAnomalyLayer) {
   const LayerRaster none = extractLayers(map, CellBox{0, 0, 3, 1});
   for (float x : none.layer(Layer::kAnomaly)) EXPECT_EQ(x, 0.0f);
   EXPECT_EQ(layerName(Layer::kAnomaly), "anomaly");
-  EXPECT_EQ(layerValue(makeCell(0.5f, 0.2f, 1.0f), Layer::kAnomaly), 0.0);
+  EXPECT_EQ(layerValue(storedCell(0.5f, 0.2f, 1.0f), Layer::kAnomaly), 0.0);
 }
 
 // The SLAM takes each scan's anomaly against each particle's map before the scan. The room mapped

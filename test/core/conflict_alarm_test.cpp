@@ -9,40 +9,23 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/sensor_model.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
+
+using namespace testing_cells;
 
 constexpr double kRes = 0.05;
 // Cells store m̃ in steps of 2^-23 and λ as a half float: sums over them computed from the
 // nominal values agree to ~1e-4.
 constexpr double kStored = 1e-4;
 
-Cell makeCell(float occupied, float free, float lambda = 0.0f) {
-  return Cell::fromStored(occupied, free, lambda);
-}
-
-// Cells (x, y) for x, y in [-10, 10] hold `c`.
-EvidentialGridMap filledMap(const Cell& c) {
-  EvidentialGridMap map(kRes);
-  for (int y = -10; y <= 10; ++y) {
-    for (int x = -10; x <= 10; ++x) map.mutableCell(x, y) = c;
-  }
-  return map;
-}
-
-ScanMass scanMass(float occupied, float free) {
-  ScanMass m;
-  m.occupied = occupied;
-  m.free = free;
-  return m;
-}
-
 // Per touched cell with m̃(e)s(o) >= 1/2 whose (2r+1)^2 neighbourhood is all m̃(e) > m̃(o), the
 // m(∅) the update adds: e^{-λ} (m̃(o)s(e) + m̃(e)s(o)).
 TEST(OpenSpaceConflict, HitsOnOpenFloorCountWhatTheyAdd) {
-  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
-  map.mutableCell(3, 0) = makeCell(0.05f, 0.9f, static_cast<float>(std::log(2.0)));
+  EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
+  map.mutableCell(3, 0) = storedCell(0.05f, 0.9f, static_cast<float>(std::log(2.0)));
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 8);
   acc.add(0, 0, scanMass(0.8f, 0.0f));    // K = 0.99 * 0.8 = 0.792
@@ -71,16 +54,16 @@ TEST(OpenSpaceConflict, HitsOnOpenFloorCountWhatTheyAdd) {
 TEST(OpenSpaceConflict, HitsNextToSurfacesOrTheUnknownDoNotCount) {
   const ScanMass hit = scanMass(0.8f, 0.0f);
   auto conflictWith = [&hit](int dx, int dy, const Cell& neighbour) {
-    EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+    EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
     map.mutableCell(dx, dy) = neighbour;
     ScanAccumulator acc;
     acc.reset(CellIndex{0, 0}, 8);
     acc.add(0, 0, hit);
     return acc.openSpaceConflict(map, 2);
   };
-  const Cell wall = makeCell(0.6f, 0.3f);
+  const Cell wall = storedCell(0.6f, 0.3f);
   const Cell unknown;  // vacuous: m̃(e) = m̃(o) = 0, not believed free
-  const Cell balanced = makeCell(0.4f, 0.4f);
+  const Cell balanced = storedCell(0.4f, 0.4f);
   EXPECT_NEAR(conflictWith(5, 5, wall), 0.792, kStored);
   EXPECT_EQ(conflictWith(1, 0, wall), 0.0);
   EXPECT_EQ(conflictWith(2, -2, wall), 0.0);
@@ -89,7 +72,7 @@ TEST(OpenSpaceConflict, HitsNextToSurfacesOrTheUnknownDoNotCount) {
   EXPECT_EQ(conflictWith(-1, 1, unknown), 0.0);
   EXPECT_EQ(conflictWith(0, 2, balanced), 0.0);
   // The observed map ends at x = 10: a hit at x = 9 counts with radius 1, not with radius 2.
-  EvidentialGridMap map = filledMap(makeCell(0.0f, 0.99f));
+  EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
   ScanAccumulator acc;
   acc.reset(CellIndex{9, 0}, 8);
   acc.add(9, 0, hit);
@@ -130,7 +113,7 @@ TEST(OpenSpaceConflict, IntegrateScanReportsIt) {
   auto floorMap = [] {
     EvidentialGridMap map(kRes);
     for (int y = -5; y <= 5; ++y) {
-      for (int x = -5; x <= 40; ++x) map.mutableCell(x, y) = makeCell(0.0f, 0.99f);
+      for (int x = -5; x <= 40; ++x) map.mutableCell(x, y) = storedCell(0.0f, 0.99f);
     }
     return map;
   };
@@ -142,7 +125,7 @@ TEST(OpenSpaceConflict, IntegrateScanReportsIt) {
   EXPECT_GT(conflict.mass_added, conflict.open_space_added);
 
   EvidentialGridMap walled = floorMap();
-  walled.mutableCell(22, 0) = makeCell(0.9f, 0.0f);
+  walled.mutableCell(22, 0) = storedCell(0.9f, 0.0f);
   ScanConflict near_wall;
   model.integrateScan(traced, &walled, &scratch, &near_wall);
   EXPECT_EQ(near_wall.open_space_added, 0.0);

@@ -6,18 +6,16 @@
 #include <unordered_set>
 
 #include "evidential_slam/core/evidential_grid.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
-// A recognisable non-vacuous cell.
-Cell makeCell(float occupied, float free, float lambda) {
-  return Cell::fromStored(occupied, free, lambda);
-}
+using namespace testing_cells;
 
 // The values a cell stores for these (the storage is quantised).
 void expectCell(const Cell& c, float occupied, float free, float lambda) {
-  const Cell stored = makeCell(occupied, free, lambda);
+  const Cell stored = storedCell(occupied, free, lambda);
   EXPECT_EQ(c.occupied(), stored.occupied());
   EXPECT_EQ(c.free(), stored.free());
   EXPECT_EQ(c.lambda(), stored.lambda());
@@ -69,8 +67,8 @@ TEST(EvidentialGridTest, WorldToCellAndCellCenter) {
 // Writes through mutableCell persist and do not touch neighbours.
 TEST(EvidentialGridTest, MutableCellWritesPersist) {
   EvidentialGridMap g(0.05);
-  g.mutableCell(3, 4) = makeCell(0.5f, 0.25f, 0.125f);
-  g.mutableCell(-3, -4) = makeCell(0.75f, 0.0f, 1.0f);
+  g.mutableCell(3, 4) = storedCell(0.5f, 0.25f, 0.125f);
+  g.mutableCell(-3, -4) = storedCell(0.75f, 0.0f, 1.0f);
   expectCell(g.cell(3, 4), 0.5f, 0.25f, 0.125f);
   expectCell(g.cell(CellIndex{3, 4}), 0.5f, 0.25f, 0.125f);
   expectCell(g.cell(-3, -4), 0.75f, 0.0f, 1.0f);
@@ -86,13 +84,13 @@ TEST(EvidentialGridTest, MutableCellWritesPersist) {
 // without losing what was written before; cells in between stay vacuous.
 TEST(EvidentialGridTest, GrowsInAllDirectionsKeepingCells) {
   EvidentialGridMap g(0.05);
-  g.mutableCell(0, 0) = makeCell(0.1f, 0.2f, 0.0f);
-  g.mutableCell(31, 31) = makeCell(0.3f, 0.0f, 0.0f);
-  g.mutableCell(-10000, -10000) = makeCell(0.4f, 0.1f, 0.5f);
+  g.mutableCell(0, 0) = storedCell(0.1f, 0.2f, 0.0f);
+  g.mutableCell(31, 31) = storedCell(0.3f, 0.0f, 0.0f);
+  g.mutableCell(-10000, -10000) = storedCell(0.4f, 0.1f, 0.5f);
   expectCell(g.cell(0, 0), 0.1f, 0.2f, 0.0f);
-  g.mutableCell(10000, 10000) = makeCell(0.6f, 0.2f, 1.5f);
-  g.mutableCell(-10000, 10000) = makeCell(0.7f, 0.0f, 0.0f);
-  g.mutableCell(10000, -10000) = makeCell(0.0f, 0.9f, 0.0f);
+  g.mutableCell(10000, 10000) = storedCell(0.6f, 0.2f, 1.5f);
+  g.mutableCell(-10000, 10000) = storedCell(0.7f, 0.0f, 0.0f);
+  g.mutableCell(10000, -10000) = storedCell(0.0f, 0.9f, 0.0f);
   const CellIndex far = g.worldToCell(-500.0 + 1e-6, 499.99);
   setFree(g.mutableCell(far.x, far.y), 0.5f);
 
@@ -119,8 +117,8 @@ TEST(EvidentialGridTest, StepwiseGrowthKeepsCells) {
   EvidentialGridMap g(0.05);
   for (int k = 0; k < 20; ++k) {
     const int d = 37 * k;
-    g.mutableCell(d, -d) = makeCell(0.01f * k, 0.0f, 0.0f);
-    g.mutableCell(-d - 1, d + 1) = makeCell(0.0f, 0.01f * k, 0.0f);
+    g.mutableCell(d, -d) = storedCell(0.01f * k, 0.0f, 0.0f);
+    g.mutableCell(-d - 1, d + 1) = storedCell(0.0f, 0.01f * k, 0.0f);
     for (int j = 0; j <= k; ++j) {
       const int e = 37 * j;
       EXPECT_EQ(g.cell(e, -e).occupied(), stored(0.01f * j)) << "k=" << k << " j=" << j;
@@ -134,7 +132,7 @@ TEST(EvidentialGridTest, StepwiseGrowthKeepsCells) {
 // x [-32, 31], y [0, 63]. observedBox is tight around the two written cells: x [-1,0], y [0,40].
 TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
   EvidentialGridMap g(0.05);
-  g.mutableCell(0, 0) = makeCell(0.5f, 0.0f, 0.0f);
+  g.mutableCell(0, 0) = storedCell(0.5f, 0.0f, 0.0f);
   CellBox a = g.allocatedBox();
   EXPECT_EQ(a.min_x, 0);
   EXPECT_EQ(a.max_x, 31);
@@ -143,7 +141,7 @@ TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
   EXPECT_EQ(a.width(), 32);
   EXPECT_EQ(g.allocatedTiles(), 1u);
 
-  g.mutableCell(-1, 40) = makeCell(0.0f, 0.5f, 0.0f);
+  g.mutableCell(-1, 40) = storedCell(0.0f, 0.5f, 0.0f);
   a = g.allocatedBox();
   EXPECT_EQ(a.min_x, -32);
   EXPECT_EQ(a.max_x, 31);
@@ -164,7 +162,7 @@ TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
 // counts as observed (EC is evidence), a merely touched cell does not.
 TEST(EvidentialGridTest, ObservedBoxIgnoresTouchedVacuousCells) {
   EvidentialGridMap g(0.05);
-  g.mutableCell(5, 6) = makeCell(0.2f, 0.0f, 0.0f);
+  g.mutableCell(5, 6) = storedCell(0.2f, 0.0f, 0.0f);
   g.mutableCell(200, 300);  // allocate only
   CellBox o = g.observedBox();
   EXPECT_EQ(o.min_x, 5);
@@ -206,21 +204,21 @@ TEST(CellBoxTest, ExtendAndSize) {
 // to a leaves b unchanged; unwritten cells of the shared tile stay equal in both.
 TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
   EvidentialGridMap a(0.05);
-  a.mutableCell(1, 1) = makeCell(0.5f, 0.0f, 0.0f);
-  a.mutableCell(2, 1) = makeCell(0.0f, 0.5f, 0.0f);
-  a.mutableCell(-40, 70) = makeCell(0.25f, 0.25f, 0.0f);
+  a.mutableCell(1, 1) = storedCell(0.5f, 0.0f, 0.0f);
+  a.mutableCell(2, 1) = storedCell(0.0f, 0.5f, 0.0f);
+  a.mutableCell(-40, 70) = storedCell(0.25f, 0.25f, 0.0f);
 
   EvidentialGridMap b = a;
   expectCell(b.cell(1, 1), 0.5f, 0.0f, 0.0f);
   expectCell(b.cell(-40, 70), 0.25f, 0.25f, 0.0f);
 
-  b.mutableCell(1, 1) = makeCell(0.9f, 0.0f, 3.0f);  // same tile as (2,1), shared
+  b.mutableCell(1, 1) = storedCell(0.9f, 0.0f, 3.0f);  // same tile as (2,1), shared
   expectCell(a.cell(1, 1), 0.5f, 0.0f, 0.0f);        // a unchanged
   expectCell(b.cell(1, 1), 0.9f, 0.0f, 3.0f);
   expectCell(b.cell(2, 1), 0.0f, 0.5f, 0.0f);  // the clone kept the rest of the tile
   expectCell(a.cell(2, 1), 0.0f, 0.5f, 0.0f);
 
-  a.mutableCell(-40, 70) = makeCell(0.0f, 1.0f, 0.0f);  // vice versa, on another shared tile
+  a.mutableCell(-40, 70) = storedCell(0.0f, 1.0f, 0.0f);  // vice versa, on another shared tile
   expectCell(b.cell(-40, 70), 0.25f, 0.25f, 0.0f);      // b unchanged
   expectCell(a.cell(-40, 70), 0.0f, 1.0f, 0.0f);
 
@@ -234,16 +232,16 @@ TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
 // three "particles" sharing one map: a write by one never shows up in the others.
 TEST(EvidentialGridTest, CopyOnWriteAssignmentGrowthAndThreeParticles) {
   EvidentialGridMap a(0.05);
-  a.mutableCell(0, 0) = makeCell(0.5f, 0.0f, 0.0f);
+  a.mutableCell(0, 0) = storedCell(0.5f, 0.0f, 0.0f);
   EvidentialGridMap b(0.05);
-  b.mutableCell(100, 100) = makeCell(0.1f, 0.1f, 0.1f);
+  b.mutableCell(100, 100) = storedCell(0.1f, 0.1f, 0.1f);
   b = a;
   expectCell(b.cell(0, 0), 0.5f, 0.0f, 0.0f);
   expectVacuous(b.cell(100, 100));  // b's old content is gone
 
   EvidentialGridMap c = b;
   // b grows far away (the tile array is re-laid out) and writes into the shared tile.
-  b.mutableCell(-3000, 2500) = makeCell(0.3f, 0.3f, 0.3f);
+  b.mutableCell(-3000, 2500) = storedCell(0.3f, 0.3f, 0.3f);
   setOccupied(b.mutableCell(0, 0), 0.8f);
   expectCell(a.cell(0, 0), 0.5f, 0.0f, 0.0f);
   expectCell(c.cell(0, 0), 0.5f, 0.0f, 0.0f);

@@ -9,18 +9,16 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/core/measures.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
+using namespace testing_cells;
+
 // The cells store m̃ in steps of 2^-23 and λ as a half float (2^-11 relative): values agree with
 // the nominal masses to ~3e-4 (EC of λ = ln 2 is off by up to 2.4e-4 / ln 2).
 constexpr double kTol = 5e-4;
-
-Cell makeCell(double occupied_n, double free_n, double conflict) {
-  return Cell::fromStored(static_cast<float>(occupied_n), static_cast<float>(free_n),
-                          static_cast<float>(-std::log(1.0 - conflict)));
-}
 
 // Layer values, in layer order (occupied free unknown conflict pignistic nonspecificity
 // internal_conflict external_conflict entropy):
@@ -38,9 +36,9 @@ const std::vector<double> kAsymmetric = {
 // Grid with (2,3) certain occupied, (4,3) conflicting, (5,2) asymmetric; resolution 0.05.
 EvidentialGridMap makeGrid() {
   EvidentialGridMap g(0.05);
-  g.mutableCell(2, 3) = makeCell(1.0, 0.0, 0.0);
-  g.mutableCell(4, 3) = makeCell(0.6, 0.2, 0.5);
-  g.mutableCell(5, 2) = makeCell(0.6, 0.1, 0.0);
+  g.mutableCell(2, 3) = cellWithConflict(1.0, 0.0, 0.0);
+  g.mutableCell(4, 3) = cellWithConflict(0.6, 0.2, 0.5);
+  g.mutableCell(5, 2) = cellWithConflict(0.6, 0.1, 0.0);
   return g;
 }
 
@@ -144,8 +142,8 @@ TEST(LayersTest, ZeroMargin) {
 // cell (-3,-2) is row 1 col 1 = index 4; cell (-2,-3) is row 0 col 2 = index 2.
 TEST(LayersTest, NegativeCoordinates) {
   EvidentialGridMap g(0.05);
-  g.mutableCell(-3, -2) = makeCell(1.0, 0.0, 0.0);
-  g.mutableCell(-2, -3) = makeCell(0.6, 0.2, 0.5);
+  g.mutableCell(-3, -2) = cellWithConflict(1.0, 0.0, 0.0);
+  g.mutableCell(-2, -3) = cellWithConflict(0.6, 0.2, 0.5);
   const LayerRaster r = extractLayers(g, CellBox{-4, -3, -2, -1});
   expectSizes(r, 3, 3);
   EXPECT_NEAR(r.origin_x, -0.20, 1e-12);

@@ -8,19 +8,16 @@
 
 #include "evidential_slam/core/mass.h"
 #include "evidential_slam/core/measures.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
+using namespace testing_cells;
+
 // Cells store m̃ in steps of 2^-23 and λ as a half float (2^-11 relative): a measure of a cell
 // made from nominal masses is that close to the hand-computed value (EC = 1 bit: within 3.5e-4).
 constexpr double kTol = 5e-4;
-
-// A cell with normalised masses m̃(o), m̃(e) and raw conflict m(∅) (λ = -ln(1 - m(∅))).
-Cell makeCell(double occupied_n, double free_n, double conflict) {
-  return Cell::fromStored(static_cast<float>(occupied_n), static_cast<float>(free_n),
-                          static_cast<float>(-std::log(1.0 - conflict)));
-}
 
 // Binary Shannon entropy in bits with 0 log 0 = 0 (reference formula, eq. 11).
 double binaryEntropy(double p) {
@@ -44,7 +41,7 @@ TEST(MeasuresTest, VacuousPrototype) {
 // Balanced Bayesian o = e = 0.5 (Fig. 3: maximal internal conflict):
 // BetP = 0.5, H = 1, NS = 0, IC = -(0.5 log2 0.5 + 0.5 log2 0.5) = 1, EC = 0.
 TEST(MeasuresTest, BalancedBayesianPrototype) {
-  const Cell c = makeCell(0.5, 0.5, 0.0);
+  const Cell c = cellWithConflict(0.5, 0.5, 0.0);
   EXPECT_NEAR(pignistic(c), 0.5, kTol);
   EXPECT_NEAR(entropyBits(c), 1.0, kTol);
   EXPECT_NEAR(nonSpecificity(c), 0.0, kTol);
@@ -54,7 +51,7 @@ TEST(MeasuresTest, BalancedBayesianPrototype) {
 
 // Certain occupied m(o) = 1: BetP = 1, H = 0, NS = 0, IC = -(1 * log2 1) = 0, EC = 0.
 TEST(MeasuresTest, CertainOccupiedPrototype) {
-  const Cell c = makeCell(1.0, 0.0, 0.0);
+  const Cell c = cellWithConflict(1.0, 0.0, 0.0);
   EXPECT_NEAR(pignistic(c), 1.0, kTol);
   EXPECT_NEAR(entropyBits(c), 0.0, kTol);
   EXPECT_NEAR(nonSpecificity(c), 0.0, kTol);
@@ -64,7 +61,7 @@ TEST(MeasuresTest, CertainOccupiedPrototype) {
 
 // Certain free m(e) = 1: BetP = 0, H = 0, IC = 0.
 TEST(MeasuresTest, CertainFreePrototype) {
-  const Cell c = makeCell(0.0, 1.0, 0.0);
+  const Cell c = cellWithConflict(0.0, 1.0, 0.0);
   EXPECT_NEAR(pignistic(c), 0.0, kTol);
   EXPECT_NEAR(entropyBits(c), 0.0, kTol);
   EXPECT_NEAR(internalConflict(c), 0.0, kTol);
@@ -74,7 +71,7 @@ TEST(MeasuresTest, CertainFreePrototype) {
 // BetP = 0.25 + 0.25 = 0.5, H = 1, NS = 0.5,
 // IC = -(0.25 log2 0.75 + 0.25 log2 0.75) = -0.5 log2 0.75 = 0.5 * 0.41503750 = 0.20751875.
 TEST(MeasuresTest, QuarterQuarterHalfPrototype) {
-  const Cell c = makeCell(0.25, 0.25, 0.0);
+  const Cell c = cellWithConflict(0.25, 0.25, 0.0);
   EXPECT_NEAR(pignistic(c), 0.5, kTol);
   EXPECT_NEAR(entropyBits(c), 1.0, kTol);
   EXPECT_NEAR(nonSpecificity(c), 0.5, kTol);
@@ -86,7 +83,7 @@ TEST(MeasuresTest, QuarterQuarterHalfPrototype) {
 // BetP = 0.6 + 0.15 = 0.75; H = -(0.75 log2 0.75 + 0.25 log2 0.25) = 0.31127812 + 0.5 = 0.81127812;
 // IC = -(0.6 log2 0.9 + 0.1 log2 0.4) = 0.6*0.15200309 + 0.1*1.32192809 = 0.22339467.
 TEST(MeasuresTest, AsymmetricMass) {
-  const Cell c = makeCell(0.6, 0.1, 0.0);
+  const Cell c = cellWithConflict(0.6, 0.1, 0.0);
   EXPECT_NEAR(pignistic(c), 0.75, kTol);
   EXPECT_NEAR(entropyBits(c), 0.81127812445913, kTol);
   EXPECT_NEAR(nonSpecificity(c), 0.3, kTol);
@@ -97,7 +94,7 @@ TEST(MeasuresTest, AsymmetricMass) {
 // normalised m̃ = (0.5, 0.5) has dissonance 1, scaled by 1 - m(∅): IC = 0.5;
 // BetP = 0.25/0.5 = 0.5, H = 1; NS = m(Θ) = 0.
 TEST(MeasuresTest, ConflictHalfPrototype) {
-  const Cell c = makeCell(0.5, 0.5, 0.5);
+  const Cell c = cellWithConflict(0.5, 0.5, 0.5);
   EXPECT_NEAR(externalConflict(c), 1.0, kTol);
   EXPECT_NEAR(internalConflict(c), 0.5, kTol);
   EXPECT_NEAR(pignistic(c), 0.5, kTol);
@@ -110,7 +107,7 @@ TEST(MeasuresTest, ConflictHalfPrototype) {
 // BetP = (0.3 + 0.05)/0.5 = 0.7; H = -(0.7 log2 0.7 + 0.3 log2 0.3) = 0.88129090; EC = 1;
 // NS = m(Θ) = 0.1 (eq. 13 is on the raw mass m, not on m̃).
 TEST(MeasuresTest, ConflictAsymmetricMass) {
-  const Cell c = makeCell(0.6, 0.2, 0.5);
+  const Cell c = cellWithConflict(0.6, 0.2, 0.5);
   EXPECT_NEAR(internalConflict(c), 0.22877123795494, kTol);
   EXPECT_NEAR(pignistic(c), 0.7, kTol);
   EXPECT_NEAR(entropyBits(c), 0.88129089923069, kTol);
@@ -120,10 +117,10 @@ TEST(MeasuresTest, ConflictAsymmetricMass) {
 
 // EC for m(∅) = 0.75 is -log2(0.25) = 2 bits; m(∅) = 0.875 gives 3 bits.
 TEST(MeasuresTest, ExternalConflictIsLogarithmic) {
-  EXPECT_NEAR(externalConflict(makeCell(0.5, 0.5, 0.75)), 2.0, 2.0 * kTol);  // λ's relative error
-  EXPECT_NEAR(externalConflict(makeCell(0.5, 0.5, 0.875)), 3.0, 3.0 * kTol);
+  EXPECT_NEAR(externalConflict(cellWithConflict(0.5, 0.5, 0.75)), 2.0, 2.0 * kTol);  // λ's relative error
+  EXPECT_NEAR(externalConflict(cellWithConflict(0.5, 0.5, 0.875)), 3.0, 3.0 * kTol);
   // λ = 100 nats -> EC = 100/ln 2 = 144.26950409 bits (unbounded, no saturation at m(∅) ≈ 1).
-  Cell c = makeCell(0.5, 0.5, 0.0);
+  Cell c = cellWithConflict(0.5, 0.5, 0.0);
   c.setLambda(100.0f);
   EXPECT_NEAR(externalConflict(c), 144.26950408889634, 1e-4);
   EXPECT_NEAR(internalConflict(c), 0.0, 1e-9);  // scaled by 1 - m(∅) = e^-100
@@ -136,7 +133,7 @@ TEST(MeasuresTest, InternalConflictEqualsEntropyForBayesian) {
   for (int k = 0; k <= 20; ++k) {
     const double p = k / 20.0;
     SCOPED_TRACE(testing::Message() << "p = " << p);
-    const Cell c = makeCell(p, 1.0 - p, 0.0);
+    const Cell c = cellWithConflict(p, 1.0 - p, 0.0);
     // The identity holds exactly for the stored p (1e-6: float arithmetic).
     const double stored_p = c.occupied();
     EXPECT_NEAR(internalConflict(c), binaryEntropy(stored_p), 1e-6);
@@ -146,8 +143,8 @@ TEST(MeasuresTest, InternalConflictEqualsEntropyForBayesian) {
     EXPECT_TRUE(std::isfinite(internalConflict(c)));
   }
   // Spot values: H(0.1) = 0.46899559, H(0.25) = 0.81127812.
-  EXPECT_NEAR(internalConflict(makeCell(0.1, 0.9, 0.0)), 0.46899559358929, kTol);
-  EXPECT_NEAR(internalConflict(makeCell(0.25, 0.75, 0.0)), 0.81127812445913, kTol);
+  EXPECT_NEAR(internalConflict(cellWithConflict(0.1, 0.9, 0.0)), 0.46899559358929, kTol);
+  EXPECT_NEAR(internalConflict(cellWithConflict(0.25, 0.75, 0.0)), 0.81127812445913, kTol);
 }
 
 // Layer names, order and spelling, exactly as the output files / topics use them.
@@ -177,7 +174,7 @@ TEST(LayerNamesTest, OrderAndSpelling) {
 // ConflictAsymmetricMass): raw masses m(o) = 0.6*0.5 = 0.3, m(e) = 0.2*0.5 = 0.1,
 // m(Θ) = 0.2*0.5 = 0.1, m(∅) = 0.5.
 TEST(LayerValueTest, EveryLayerOfAConflictingCell) {
-  const Cell c = makeCell(0.6, 0.2, 0.5);
+  const Cell c = cellWithConflict(0.6, 0.2, 0.5);
   EXPECT_NEAR(layerValue(c, Layer::kOccupied), 0.3, kTol);
   EXPECT_NEAR(layerValue(c, Layer::kFree), 0.1, kTol);
   EXPECT_NEAR(layerValue(c, Layer::kUnknown), 0.1, kTol);
@@ -202,7 +199,7 @@ TEST(LayerValueTest, EveryLayerOfAVacuousCell) {
 
 // layerValue on a conflict-free cell (∅0, o0.6, e0.1, Θ0.3), values from AsymmetricMass.
 TEST(LayerValueTest, EveryLayerOfAConflictFreeCell) {
-  const Cell c = makeCell(0.6, 0.1, 0.0);
+  const Cell c = cellWithConflict(0.6, 0.1, 0.0);
   const double expected[kLayerCount] = {
       0.6, 0.1, 0.3, 0.0, 0.75, 0.3, 0.22339466555577, 0.0, 0.81127812445913};
   for (int i = 0; i < kLayerCount; ++i) {

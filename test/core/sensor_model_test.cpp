@@ -22,9 +22,12 @@
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/sensor_model.h"
 #include "test_support.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
+
+using namespace testing_cells;
 
 constexpr double kRes = 0.05;
 constexpr double kPi = 3.14159265358979323846;
@@ -46,8 +49,6 @@ SensorModelConfig paperConfig() {
   c.clear_no_return = true;
   return c;
 }
-
-Cell makeCell(float occupied, float free) { return Cell::fromStored(occupied, free, 0.0f); }
 
 // --- Forward model --------------------------------------------------------------------------
 
@@ -101,7 +102,7 @@ TEST_F(ForwardModelTest, UnknownSpaceIsFullyPlausible) {
 // ignorance (Yager): m(e) = e^{-0.5} = 0.60653066, m(Θ) = 0.39346934, so P_0 = g(0) · 0.39346934
 // = 0.99730020 · 0.39346934 = 0.39240705 and pl = 0.8 · 0.39240705 + 0.2 = 0.51392564.
 TEST_F(ForwardModelTest, ConflictReadAsIgnorance) {
-  fill(makeCell(0.0f, 1.0f));
+  fill(storedCell(0.0f, 1.0f));
   map_.mutableCell(kHitCell, 0) = Cell::fromStored(0.0f, 1.0f, 0.5f);
   EXPECT_NEAR(plausibility(kZ), 0.2, 1e-6);
   SensorModelConfig config = paperConfig();
@@ -109,21 +110,21 @@ TEST_F(ForwardModelTest, ConflictReadAsIgnorance) {
   const BeamModel yager(config, kRes);
   EXPECT_NEAR(yager.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.51392564, 1e-4);
   // Cells without conflict read the same either way.
-  map_.mutableCell(kHitCell, 0) = makeCell(1.0f, 0.0f);
+  map_.mutableCell(kHitCell, 0) = storedCell(1.0f, 0.0f);
   EXPECT_NEAR(yager.beamPlausibility(map_, ray_.data(), ray_.size(), kZ), 0.99784016, 1e-4);
 }
 
 // Beam ending in certainly free space: a_i = 0, b_i = 1, P_0 = g(z - z_max) = 0: pl = r = 0.2.
 TEST_F(ForwardModelTest, FreeSpaceGivesTheFloor) {
-  fill(makeCell(0.0f, 1.0f));
+  fill(storedCell(0.0f, 1.0f));
   EXPECT_NEAR(plausibility(kZ), 0.2, 1e-6);
 }
 
 // Free cells with a certain obstacle exactly at the measured range: P_0 = g(0) = 0.99730020,
 // pl = 0.8 * 0.99730020 + 0.2 = 0.99784016.
 TEST_F(ForwardModelTest, ObstacleAtTheRangeIsPlausible) {
-  fill(makeCell(0.0f, 1.0f));
-  map_.mutableCell(kHitCell, 0) = makeCell(1.0f, 0.0f);
+  fill(storedCell(0.0f, 1.0f));
+  map_.mutableCell(kHitCell, 0) = storedCell(1.0f, 0.0f);
   EXPECT_NEAR(plausibility(kZ), 0.99784016, 1e-4);
   // Same map, measurement 2.5 cells short of the obstacle: δ_20 = -0.125 (g = 0.0227501),
   // P_0 = g(-0.125) = Φ(-2) - Φ(-8) = 0.02275013, pl = 0.8 * 0.02275013 + 0.2 = 0.21820010.
@@ -133,11 +134,11 @@ TEST_F(ForwardModelTest, ObstacleAtTheRangeIsPlausible) {
 // An occupied cell 10 cells (0.5 m) before the measured end point stops the beam there: a_j =
 // g(0.5) = 0 and b_j = 0, so P_0 = 0 and pl = r = 0.2 — below the 0.99996 of unknown space.
 TEST_F(ForwardModelTest, OccupiedCellBeforeTheHitLowersPlausibility) {
-  map_.mutableCell(kHitCell - 10, 0) = makeCell(1.0f, 0.0f);
+  map_.mutableCell(kHitCell - 10, 0) = storedCell(1.0f, 0.0f);
   EXPECT_NEAR(plausibility(kZ), 0.2, 1e-6);
   // Half-occupied (o 0.5, e 0.5) instead: b_j = 0.5, the rest is vacuous:
   // P_0 = 0.5 * 0.99995196 = 0.49997598, pl = 0.8 * 0.49997598 + 0.2 = 0.59998078.
-  map_.mutableCell(kHitCell - 10, 0) = makeCell(0.5f, 0.5f);
+  map_.mutableCell(kHitCell - 10, 0) = storedCell(0.5f, 0.5f);
   EXPECT_NEAR(plausibility(kZ), 0.59998078, 1e-3);
   // The same cell with conflict λ = 0.5, read as ignorance: m(o) = 0.5 e^{-0.5} = 0.30326533,
   // b_j = 1 - 0.30326533, P_0 = 0.69673467 * 0.99995196 = 0.69670120,
@@ -159,9 +160,9 @@ TEST_F(ForwardModelTest, OccupiedCellBeforeTheHitLowersPlausibility) {
 //        = 0.94303746
 //   free cells before: P_0 = 0.94303746; pl = 0.8 * 0.94303746 + 0.2 = 0.95442997
 TEST_F(ForwardModelTest, RecursionOnMixedCells) {
-  fill(makeCell(0.0f, 1.0f));
-  map_.mutableCell(kHitCell - 1, 0) = makeCell(0.3f, 0.5f);
-  map_.mutableCell(kHitCell, 0) = makeCell(0.6f, 0.1f);
+  fill(storedCell(0.0f, 1.0f));
+  map_.mutableCell(kHitCell - 1, 0) = storedCell(0.3f, 0.5f);
+  map_.mutableCell(kHitCell, 0) = storedCell(0.6f, 0.1f);
   map_.mutableCell(kHitCell + 1, 0) = Cell();
   EXPECT_NEAR(plausibility(kZ), 0.95442997, kTable);
 }
@@ -169,7 +170,7 @@ TEST_F(ForwardModelTest, RecursionOnMixedCells) {
 // Plausibility is bounded by the floor r and by 1 for arbitrary maps and ranges.
 TEST_F(ForwardModelTest, PlausibilityBetweenFloorAndOne) {
   for (int i = 0; i < static_cast<int>(ray_.size()); ++i) {
-    map_.mutableCell(i, 0) = makeCell(0.05f * (i % 7), 0.1f * (i % 4));
+    map_.mutableCell(i, 0) = storedCell(0.05f * (i % 7), 0.1f * (i % 4));
   }
   for (double z = 0.1; z < 1.3; z += 0.013) {
     const double pl = plausibility(z);
@@ -531,8 +532,8 @@ TEST(IntegrateScanTest, AccumulatorAcrossTilesAndNegativeCells) {
 // changes a cell of it (an obstacle, or space not yet certain) gets the particle its own copy.
 TEST(IntegrateScanTest, UnchangedTilesStayShared) {
   EvidentialGridMap map(kRes);
-  for (int x = 0; x < 64; ++x) map.mutableCell(x, 3) = makeCell(0.0f, 1.0f);  // tiles (0,0), (1,0)
-  map.mutableCell(40, 3) = makeCell(0.0f, 0.5f);                              // tile (1, 0)
+  for (int x = 0; x < 64; ++x) map.mutableCell(x, 3) = storedCell(0.0f, 1.0f);  // tiles (0,0), (1,0)
+  map.mutableCell(40, 3) = storedCell(0.0f, 0.5f);                              // tile (1, 0)
   EvidentialGridMap particle = map;
   const auto sharedTiles = [&]() {
     return static_cast<int>(map.tile(0, 0) == particle.tile(0, 0)) +
@@ -545,7 +546,7 @@ TEST(IntegrateScanTest, UnchangedTilesStayShared) {
   for (int x = 0; x < 32; ++x) scratch.add(x, 3, clear);  // certainly free cells only
   EXPECT_EQ(scratch.applyTo(&particle), 0.0);
   EXPECT_EQ(sharedTiles(), 2);
-  EXPECT_EQ(particle.cell(5, 3), makeCell(0.0f, 1.0f));
+  EXPECT_EQ(particle.cell(5, 3), storedCell(0.0f, 1.0f));
 
   scratch.reset(CellIndex{0, 0}, 100);
   for (int x = 32; x < 64; ++x) scratch.add(x, 3, clear);  // cell (40, 3) is only half free
@@ -553,14 +554,14 @@ TEST(IntegrateScanTest, UnchangedTilesStayShared) {
   EXPECT_EQ(map.tile(0, 0), particle.tile(0, 0));
   EXPECT_NE(map.tile(1, 0), particle.tile(1, 0));
   EXPECT_NEAR(particle.cell(40, 3).free(), 0.9, 1e-6);  // 0.5 + 0.5 * 0.8
-  EXPECT_EQ(particle.cell(39, 3), makeCell(0.0f, 1.0f));
+  EXPECT_EQ(particle.cell(39, 3), storedCell(0.0f, 1.0f));
   EXPECT_NEAR(map.cell(40, 3).free(), 0.5, 1e-6);  // the other particle's map is untouched
 
   scratch.reset(CellIndex{0, 0}, 100);
   scratch.add(5, 3, ScanMass{0.1f, 0.7f});  // a little occupied mass: a certainly free cell changes
   EXPECT_GT(scratch.applyTo(&particle), 0.0);
   EXPECT_NE(map.tile(0, 0), particle.tile(0, 0));
-  EXPECT_EQ(map.cell(5, 3), makeCell(0.0f, 1.0f));
+  EXPECT_EQ(map.cell(5, 3), storedCell(0.0f, 1.0f));
 }
 
 // The map update keeps the tiles' occupied rows (the scan matcher's targets) true: rows built
