@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/mass.h"
@@ -35,6 +36,26 @@ inline ScanMass scanMass(float occupied, float free) {
   m.occupied = occupied;
   m.free = free;
   return m;
+}
+
+// True when `a` and `b` hold the same tiles with the same cells.
+inline bool sameCells(const EvidentialGridMap& a, const EvidentialGridMap& b) {
+  if (a.allocatedTiles() != b.allocatedTiles()) return false;
+  bool same = true;
+  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
+    const EvidentialGridMap::Tile* other = b.tile(tx, ty);
+    if (other == nullptr || !(other->cells == tile.cells)) same = false;
+  });
+  return same;
+}
+
+// The number of `a`'s tiles that `b` shares (the same copy-on-write tile, not a copy).
+inline size_t sharedTiles(const EvidentialGridMap& a, const EvidentialGridMap& b) {
+  size_t shared = 0;
+  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
+    if (b.tile(tx, ty) == &tile) ++shared;
+  });
+  return shared;
 }
 
 }  // namespace testing_cells

@@ -10,10 +10,13 @@
 
 #include "evidential_slam/core/slam_engine.h"
 #include "test_support.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
+using testing_cells::sameCells;
+using testing_cells::sharedTiles;
 using testing_room::roomScan;
 
 SlamConfig smallConfig() {
@@ -36,24 +39,6 @@ EvidentialGridMap roomMap(const SlamConfig& config) {
   EvidentialGridMap map = engine.bestMap();
   updateCell(map.mutableCell(2000, 2000), ScanMass{0.6f, 0.0f});
   return map;
-}
-
-size_t sharedTiles(const EvidentialGridMap& a, const EvidentialGridMap& b) {
-  size_t shared = 0;
-  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
-    if (b.tile(tx, ty) == &tile) ++shared;
-  });
-  return shared;
-}
-
-bool sameCells(const EvidentialGridMap& a, const EvidentialGridMap& b) {
-  if (a.allocatedTiles() != b.allocatedTiles()) return false;
-  bool same = true;
-  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
-    const EvidentialGridMap::Tile* other = b.tile(tx, ty);
-    if (other == nullptr || !(other->cells == tile.cells)) same = false;
-  });
-  return same;
 }
 
 // Before any scan every particle holds the given map, sharing all its tiles, at the start pose.

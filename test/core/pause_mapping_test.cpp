@@ -7,10 +7,12 @@
 
 #include "evidential_slam/core/slam_engine.h"
 #include "test_support.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
+using testing_cells::sameCells;
 using testing_room::roomScan;
 
 SlamConfig smallConfig() {
@@ -19,16 +21,6 @@ SlamConfig smallConfig() {
   c.threads = 1;
   c.seed = 5;
   return c;
-}
-
-bool sameCells(const EvidentialGridMap& a, const EvidentialGridMap& b) {
-  if (a.allocatedTiles() != b.allocatedTiles()) return false;
-  bool same = true;
-  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
-    const EvidentialGridMap::Tile* other = b.tile(tx, ty);
-    if (other == nullptr || !(other->cells == tile.cells)) same = false;
-  });
-  return same;
 }
 
 // The robot drives through the room with its box (an asymmetric room), one processed scan per pose.

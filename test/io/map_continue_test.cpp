@@ -23,9 +23,12 @@
 #include "evidential_slam/session/session.h"
 #include "map_compare.h"
 #include "test_util.h"
+#include "../core/cell_support.h"
 
 namespace evidential_slam {
 namespace {
+
+using testing_cells::sharedTiles;
 
 constexpr size_t kFixtureScans = 159;
 constexpr size_t kFirstHalf = 80;
@@ -67,14 +70,6 @@ double ate(const std::vector<StampedPose>& path) {
   EXPECT_TRUE(computeAte(path, truth, 0.05, &result, &error)) << error;
   EXPECT_EQ(result.matched, kFixtureScans);
   return result.rmse;
-}
-
-size_t sharedTiles(const EvidentialGridMap& a, const EvidentialGridMap& b) {
-  size_t shared = 0;
-  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
-    if (b.tile(tx, ty) == &tile) ++shared;
-  });
-  return shared;
 }
 
 void twoHalves(bool anchored) {

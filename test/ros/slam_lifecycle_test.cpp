@@ -22,11 +22,13 @@
 #include "evidential_slam/SaveMap.h"
 #include "evidential_slam/io/map_file.h"
 #include "room_robot.h"
+#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
 
 namespace fs = std::filesystem;
+using testing_cells::sameCells;
 using testing_ros::Robot;
 
 Robot* robot = nullptr;
@@ -87,16 +89,6 @@ void save(const std::string& name, EvidentialGridMap* map, io::MapFileInfo* info
   EXPECT_TRUE(listed) << "save_map did not list " << file;
   std::string error;
   ASSERT_TRUE(io::readMapFile(file, map, info, &error)) << error;
-}
-
-bool sameCells(const EvidentialGridMap& a, const EvidentialGridMap& b) {
-  if (a.allocatedTiles() != b.allocatedTiles()) return false;
-  bool same = true;
-  a.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
-    const EvidentialGridMap::Tile* other = b.tile(tx, ty);
-    if (other == nullptr || !(other->cells == tile.cells)) same = false;
-  });
-  return same;
 }
 
 bool getMap(nav_msgs::OccupancyGrid* map) {
