@@ -42,6 +42,23 @@ TEST(AlignmentTest, RecoversAKnownPose) { expectRecovered(Pose2(12.3, -4.1, 2.2)
 TEST(AlignmentTest, RecoversAKnownPoseTurnedBackwards) { expectRecovered(Pose2(-3.0, 5.5, -2.9)); }
 TEST(AlignmentTest, RecoversTheIdentity) { expectRecovered(Pose2()); }
 
+// Corridors 1.8 m wide: the search's pooled cells must be fine enough that a corridor keeps free
+// space after the erosion of the walls (three 0.8 m cells would not); otherwise walls on corridors
+// cost nothing there and a wrong pose wins the search.
+TEST(AlignmentTest, RecoversAPoseAmongNarrowCorridors) {
+  const synthetic::World world = synthetic::corridors();
+  const Pose2 truth(6.0, -3.0, 0.9);
+  const EvidentialGridMap a = synthetic::paint(world, Pose2(), {12.0, 10.0}, 13.0, kRes, 1);
+  const EvidentialGridMap b = synthetic::paint(world, truth, {24.0, 10.0}, 13.0, kRes, 2);
+  AlignmentResult result;
+  std::string why;
+  ASSERT_TRUE(alignMaps(a, b, AlignmentConfig{}, &result, &why)) << why;
+  EXPECT_NEAR(result.pose.x, truth.x, kRes);
+  EXPECT_NEAR(result.pose.y, truth.y, kRes);
+  EXPECT_NEAR(normalizeAngle(result.pose.theta - truth.theta), 0.0, kPi / 180.0);
+  EXPECT_LT(result.conflict, 0.1);
+}
+
 // Two maps of different worlds: no pose explains their overlap.
 TEST(AlignmentTest, RefusesMapsWithNoCommonStructure) {
   const EvidentialGridMap a = mapA();

@@ -21,9 +21,17 @@ struct Segment {
   Eigen::Vector2d a, b;
 };
 
+struct Box {
+  Eigen::Vector2d min, max;
+  bool contains(const Eigen::Vector2d& p) const {
+    return p.x() > min.x() && p.y() > min.y() && p.x() < max.x() && p.y() < max.y();
+  }
+};
+
 struct World {
   std::vector<Segment> walls;
   Eigen::Vector2d min, max;  // the building: cells inside it that are not walls are free
+  std::vector<Box> solids;   // blocks no sensor sees into: their inside stays unobserved
 
   double distance(const Eigen::Vector2d& p) const {
     double best = 1e9;
@@ -58,6 +66,24 @@ inline World office() {
   wall(7, 0, 7, 6), wall(13, 0, 13, 6), wall(9, 8, 9, 14), wall(16, 8, 16, 11.5);
   wall(17, 2, 19, 4);
   addBox(&w, 3.8, 10.8, 4.2, 11.2);
+  return w;
+}
+
+// A 36 m x 20 m floor of solid blocks of different widths between 1.8 m corridors (a building
+// like the Radish log aces): free space only in corridors narrower than three 0.8 m cells.
+inline World corridors() {
+  World w;
+  w.min = {0.0, 0.0};
+  w.max = {36.0, 20.0};
+  addBox(&w, 0, 0, 36, 20);
+  auto block = [&](double x0, double y0, double x1, double y1) {
+    addBox(&w, x0, y0, x1, y1);
+    w.solids.push_back({{x0 + 0.06, y0 + 0.06}, {x1 - 0.06, y1 - 0.06}});
+  };
+  block(1.8, 1.8, 7.0, 8.2), block(8.8, 1.8, 17.5, 8.2), block(19.3, 1.8, 23.0, 8.2);
+  block(24.8, 1.8, 34.2, 8.2);
+  block(1.8, 10.0, 11.0, 18.2), block(12.8, 10.0, 15.5, 18.2), block(17.3, 10.0, 27.0, 18.2);
+  block(28.8, 10.0, 34.2, 18.2);
   return w;
 }
 
@@ -98,6 +124,10 @@ inline EvidentialGridMap paint(const World& world, const Pose2& map_in_world,
       if ((p - centre).norm() > radius) continue;
       if (p.x() < world.min.x() || p.y() < world.min.y() || p.x() > world.max.x() ||
           p.y() > world.max.y()) {
+        continue;
+      }
+      if (std::any_of(world.solids.begin(), world.solids.end(),
+                      [&](const Box& b) { return b.contains(p); })) {
         continue;
       }
       Cell& cell = map.mutableCell(x, y);

@@ -25,9 +25,10 @@ namespace fusion {
 // not to conflict. The search runs on pooled grids (alignment.cpp).
 struct AlignmentConfig {
   // m: the exhaustive search's pooled cell (the map's cell times the smallest power of two that
-  // reaches it; coarser when a grid would exceed max_search_cells).
-  double search_resolution = 0.8;
-  int max_search_cells = 320;  // FFT grid cells per axis at most (the two maps' extents together)
+  // reaches it; coarser when a grid would exceed max_search_cells). A corridor keeps free cells
+  // after the 3 x 3 erosion only if it is about four of them wide: 0.4 m serves 1.6 m corridors.
+  double search_resolution = 0.4;
+  int max_search_cells = 640;  // FFT grid cells per axis at most (the two maps' extents together)
   // rad between searched yaws; 0: the arc of two pooled cells at the moving map's farthest observed
   // cell from its origin.
   double yaw_step = 0.0;
