@@ -1,8 +1,9 @@
-// rostest for the map fusion nodelet (map_fusion.test): this node publishes three robots' maps as
+// rostests for the map fusion nodelet. map_fusion.test: this node publishes three robots' maps as
 // EvidentialGrid on /robotN/evidential_slam/grid; robot1 and robot2 have map_merge's init_pose_*
 // parameters, robot3 none. The fused map must appear in `world`, hold both posed robots' areas
 // where their poses put them (its free space, its walls in the trinary map), nothing between
-// them, and nothing of robot3.
+// them, and nothing of robot3. map_fusion_estimated.test (known_init_poses: false): robot2's map
+// overlaps robot1's and must be placed by alignment, robot3's matches nothing and is left out.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "evidential_slam/EvidentialGrid.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/ros/conversions.h"
+#include "../core/fusion/synthetic_world.h"
 #include "ros_test_support.h"
 
 namespace evidential_slam {
@@ -23,6 +25,15 @@ constexpr double kResolution = 0.1;
 
 // A robot's map in its own frame: free space x in [x0, x0 + 4) m, y in [0, 2) m, a wall along
 // x = x0 + 4 m (x0 in cells).
+EvidentialGrid gridMsg(const EvidentialGridMap& map) {
+  std_msgs::Header header;
+  header.stamp = ros::Time(1.0);
+  header.frame_id = "map";
+  EvidentialGrid msg;
+  ros_adapter::toEvidentialGridMsg(extractLayers(map), header, &msg);
+  return msg;
+}
+
 EvidentialGrid roomGrid(int x0) {
   EvidentialGridMap map(kResolution);
   for (int y = 0; y < 20; ++y) {
@@ -31,12 +42,7 @@ EvidentialGrid roomGrid(int x0) {
                                            : Cell::fromStored(0.0f, 0.8f, 0.0f);
     }
   }
-  std_msgs::Header header;
-  header.stamp = ros::Time(1.0);
-  header.frame_id = "map";
-  EvidentialGrid msg;
-  ros_adapter::toEvidentialGridMsg(extractLayers(map), header, &msg);
-  return msg;
+  return gridMsg(map);
 }
 
 // The value of the occupancy grid at a world point; -2 outside it.
@@ -105,6 +111,58 @@ TEST(MapFusion, FusesThePosedRobotsMapsInTheWorldFrame) {
   const int row = static_cast<int>(std::floor((1.05 - raster.origin_y) / raster.resolution));
   EXPECT_NEAR(raster.layer(Layer::kFree)[static_cast<size_t>(row * raster.width + col)], 0.8,
               1e-6);
+}
+
+// The office of the core's alignment tests: robot1 maps its west part from the world origin,
+// robot2 its east part from a map frame at (12.3, -4.1, 2.2 rad), robot3 a world of clutter. Without
+// init poses the node must put robot2's part where the office is and leave robot3 out.
+TEST(MapFusion, EstimatesWhereARobotsMapFitsAndLeavesOutOneThatFitsNowhere) {
+  ros::NodeHandle nh;
+  std::mutex mutex;
+  nav_msgs::OccupancyGrid map;
+  bool have_map = false;
+  auto map_sub = nh.subscribe<nav_msgs::OccupancyGrid>(
+      "/map", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        map = *m;
+        have_map = true;
+      });
+  constexpr double kCell = 0.05;
+  const synthetic::World office = synthetic::office();
+  std::vector<ros::Publisher> pubs;
+  for (const char* robot : {"robot1", "robot2", "robot3"}) {
+    pubs.push_back(nh.advertise<EvidentialGrid>(std::string("/") + robot + "/evidential_slam/grid",
+                                                1, true));
+  }
+  pubs[0].publish(gridMsg(synthetic::paint(office, Pose2(), {7.0, 7.0}, 9.0, kCell, 1)));
+  pubs[1].publish(
+      gridMsg(synthetic::paint(office, Pose2(12.3, -4.1, 2.2), {13.0, 7.0}, 9.0, kCell, 2)));
+  // Its cells 30 m to the right of its world: if it were fused at its own frame, the map would
+  // reach x = 30 m and beyond.
+  pubs[2].publish(gridMsg(
+      synthetic::paint(synthetic::clutter(5), Pose2(-30.0, 0.0, 0.0), {8.0, 8.0}, 8.0, kCell, 3)));
+  // Free in the corridor east of robot1's reach: only robot2 saw it.
+  auto placed = [&] { return have_map && valueAt(map, 19.0, 7.0) == 0; };
+  ASSERT_TRUE(testing_ros::waitUntil(mutex, placed, 90.0)) << "robot2's map was not placed";
+
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_EQ(map.header.frame_id, "world");
+  // The office's east wall (x = 20 m) where robot2 saw it, within a cell.
+  for (double y : {2.0, 7.0, 12.0}) {
+    EXPECT_TRUE(valueAt(map, 19.975, y) == 100 || valueAt(map, 19.925, y) == 100 ||
+                valueAt(map, 20.025, y) == 100)
+        << "no wall at (20, " << y << ")";
+  }
+  // robot1's part: free in the west corridor, its west wall.
+  EXPECT_EQ(valueAt(map, 1.0, 7.0), 0);
+  // robot3 was not fused: the map ends within a metre of the office's walls (the raster's margin
+  // is 0.5 m).
+  const double x1 = map.info.origin.position.x + map.info.width * map.info.resolution;
+  const double y1 = map.info.origin.position.y + map.info.height * map.info.resolution;
+  EXPECT_GE(map.info.origin.position.x, -1.0);
+  EXPECT_GE(map.info.origin.position.y, -1.0);
+  EXPECT_LE(x1, 21.0);
+  EXPECT_LE(y1, 15.0);
 }
 
 }  // namespace
