@@ -11,6 +11,7 @@
 
 #include "evidential_slam/core/exploration/coverage.h"
 #include "evidential_slam/core/layers.h"
+#include "evidential_slam/core/metrics.h"
 #include "evidential_slam/core/slam_engine.h"
 #include "evidential_slam/io/atomic_files.h"
 
@@ -90,8 +91,10 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
 
   SimulatedScan scan;
   double t = 0.0;
+  std::vector<StampedPose> true_path;  // in the SLAM's map frame (the start pose)
   while (sim.step(&scan)) {
     t = scan.stamp - sim_config.start_time;
+    true_path.push_back({scan.stamp, start.between(scan.true_pose)});
     r.distance_m += (scan.true_pose.translation() - last_position).norm();
     last_position = scan.true_pose.translation();
     r.min_wall_distance_m = std::min(
@@ -136,6 +139,11 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
   r.start_pose = start;
   const Pose2 truth_in_map = start.between(sim.truePose());
   r.final_position_error_m = (engine.bestPose().translation() - truth_in_map.translation()).norm();
+  AteResult ate;
+  if (computeAte(engine.bestTrajectory(), true_path, 0.05, &ate, nullptr)) {
+    r.ate_rmse_m = ate.rmse;
+    r.ate_max_m = ate.max_error;
+  }
   r.wall_time_s = secondsSince(wall_start);
   return true;
 }
@@ -164,6 +172,11 @@ bool writeExplorationJson(const std::string& path, const ExplorationRunResult& r
   j["reachable_cells_beyond_gap"] = r.reachable_cells_beyond_gap;
   j["final_coverage_beyond_gap"] = r.final_coverage_beyond_gap;
   j["final_position_error_m"] = r.final_position_error_m;
+  auto metres_or_null = [](double m) {
+    return m < 0.0 ? nlohmann::ordered_json() : nlohmann::ordered_json(m);
+  };
+  j["ate_rmse_m"] = metres_or_null(r.ate_rmse_m);
+  j["ate_max_m"] = metres_or_null(r.ate_max_m);
   j["wall_time_s"] = r.wall_time_s;
   if (r.internals_measured) {
     j["scans_processed"] = r.scans_processed;

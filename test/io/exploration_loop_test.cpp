@@ -40,11 +40,12 @@ void exploreAndCheck(const std::string& strategy) {
   std::printf(
       "%s: coverage %.4f after %.1f m in %.1f s simulated (%.1f s wall: SLAM %.1f s, explorer "
       "%.1f s), %llu collision(s), closest to a wall %.2f m, to 90 %%: %.0f s, pose error "
-      "%.3f m; beyond the %.3f m gap band: coverage %.4f of %llu cells; %s\n",
+      "%.3f m, ATE %.3f m (max %.3f m); beyond the %.3f m gap band: coverage %.4f of %llu cells; "
+      "%s\n",
       strategy.c_str(), r.final_coverage, r.distance_m, r.sim_time_s,
       r.wall_time_s, r.slam_time_s, r.explorer_time_s,
       static_cast<unsigned long long>(r.collisions), r.min_wall_distance_m, r.time_to_90_s,
-      r.final_position_error_m, r.gap_band_m, r.final_coverage_beyond_gap,
+      r.final_position_error_m, r.ate_rmse_m, r.ate_max_m, r.gap_band_m, r.final_coverage_beyond_gap,
       static_cast<unsigned long long>(r.reachable_cells_beyond_gap), r.stop_reason.c_str());
   EXPECT_TRUE(r.done) << r.stop_reason;
   EXPECT_LT(r.sim_time_s, 300.0);
@@ -59,6 +60,10 @@ void exploreAndCheck(const std::string& strategy) {
   EXPECT_GT(r.reachable_cells_beyond_gap, r.reachable_cells * 9 / 10);
   EXPECT_GE(r.final_coverage_beyond_gap, r.final_coverage);
   EXPECT_LT(r.final_position_error_m, 0.3);
+  // The final path's ATE: measured (not the -1 of "not measured"), a SLAM that kept its pose.
+  EXPECT_GT(r.ate_rmse_m, 0.0);
+  EXPECT_LT(r.ate_rmse_m, 0.3);
+  EXPECT_GE(r.ate_max_m, r.ate_rmse_m);
   ASSERT_GE(r.coverage.size(), 2u);
   EXPECT_EQ(r.coverage.front().time, 0.0);
   EXPECT_EQ(r.coverage.back().time, r.sim_time_s);
@@ -84,6 +89,8 @@ void exploreAndCheck(const std::string& strategy) {
   EXPECT_EQ(j.at("stop_reason").get<std::string>(), r.stop_reason);
   EXPECT_DOUBLE_EQ(j.at("final_coverage_beyond_gap").get<double>(), r.final_coverage_beyond_gap);
   EXPECT_DOUBLE_EQ(j.at("gap_band_m").get<double>(), r.gap_band_m);
+  EXPECT_DOUBLE_EQ(j.at("ate_rmse_m").get<double>(), r.ate_rmse_m);
+  EXPECT_DOUBLE_EQ(j.at("ate_max_m").get<double>(), r.ate_max_m);
 }
 
 TEST(ExplorationLoop, NonSpecificityStrategyExploresTheTwoRooms) {

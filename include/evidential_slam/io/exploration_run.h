@@ -59,6 +59,10 @@ struct ExplorationRunResult {
   uint64_t reachable_cells_beyond_gap = 0;
   double final_coverage_beyond_gap = 0.0;
   double final_position_error_m = 0.0;  // SLAM pose against the truth at the end
+  // ATE of the best particle's path at the end (the final map's trajectory) against the true
+  // poses of every scan (core/metrics.h: SE(2)-aligned RMSE and maximum); < 0: not measured.
+  double ate_rmse_m = -1.0;
+  double ate_max_m = -1.0;
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;     // inside processScan
   double explorer_time_s = 0.0;  // raster extraction and Explorer::update
