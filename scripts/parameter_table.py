@@ -8,8 +8,8 @@ Markdown tables of the docs made from them.
                                                fail when a generated block differs
 
 A generated block lies between `<!-- BEGIN GENERATED: NAME -->` and `<!-- END GENERATED: NAME -->`,
-NAME `parameters` (the SLAM's lists) or `explorer-parameters` (the explorer's lists); a file holds
-one or both. cfg/EvidentialSlam.cfg imports this module too.
+NAME a key of BLOCKS (e.g. `parameters`: the SLAM's lists, `explorer-parameters`: the explorer's,
+`monitor-parameters`: exploration_monitor's); a file holds one or more. cfg/EvidentialSlam.cfg imports this module too.
 """
 import csv
 import io
@@ -51,8 +51,11 @@ EXPLORER_GROUPS = [
     ("EXPLORER_PURSUIT", "pursuit", "Pure pursuit"),
     ("EXPLORER_NODE", "explorer_node", "Explorer node only"),
 ]
+# exploration_monitor (the measuring harness of explore.launch), documented in docs/exploration.md.
+MONITOR_GROUPS = [("EXPLORATION_MONITOR", "exploration_monitor", "exploration_monitor")]
 BLOCKS = {"parameters": GROUPS, "tuning-parameters": TUNING_GROUPS,
-          "fusion-parameters": FUSION_GROUPS, "explorer-parameters": EXPLORER_GROUPS}
+          "fusion-parameters": FUSION_GROUPS, "explorer-parameters": EXPLORER_GROUPS,
+          "monitor-parameters": MONITOR_GROUPS}
 FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
 
 

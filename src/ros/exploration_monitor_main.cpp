@@ -26,6 +26,7 @@
 #include "evidential_slam/io/gridmap_simulator.h"
 #include "evidential_slam/ros/conversions.h"
 #include "evidential_slam/ros/exploration_conversions.h"
+#include "evidential_slam/ros/explorer_params.h"
 
 namespace es = evidential_slam;
 
@@ -53,15 +54,21 @@ class Monitor {
  public:
   bool init(std::string* why) {
     ros::NodeHandle nh, pnh("~");
-    const std::string simulator = pnh.param<std::string>("simulator", "gridmap_simulator");
-    out_ = pnh.param<std::string>("out", "");
-    coverage_period_ = pnh.param("coverage_period", 5.0);
-    wait_for_map_ = pnh.param("wait_for_saved_map", true);
-    exit_when_done_ = pnh.param("exit_when_done", true);
-    if (!(coverage_period_ > 0.0)) {
-      *why = "~coverage_period must be > 0 (s)";
+    es::ros_adapter::ExplorationMonitorParams params;
+    const es::ros_adapter::ParameterLookup lookup = [&pnh](const std::string& name,
+                                                           XmlRpc::XmlRpcValue* value) {
+      return pnh.getParam(name, *value);
+    };
+    if (!es::ros_adapter::readExplorationMonitorParams(lookup, &params, why) ||
+        !params.isValid(why)) {
+      *why = "~" + *why;
       return false;
     }
+    const std::string& simulator = params.simulator;
+    out_ = params.out;
+    coverage_period_ = params.coverage_period;
+    wait_for_map_ = params.wait_for_saved_map;
+    exit_when_done_ = params.exit_when_done;
     es::io::GridmapSimulatorConfig config;
     if (!readSimulatorConfig(ros::NodeHandle(simulator), &config, why)) return false;
     config.waypoints.clear();
@@ -71,7 +78,7 @@ class Monitor {
     reachable_ = es::exploration::reachableFreeCells(sim_->obstacles(), start_.translation());
     for (uint8_t cell : reachable_) r_.reachable_cells += cell;
     // The Θ-gap band from the SLAM's sensor model as the SLAM node reads it (~slam: its node).
-    const ros::NodeHandle slam(pnh.param<std::string>("slam", "evidential_slam"));
+    const ros::NodeHandle slam(params.slam);
     const es::SlamConfig defaults;
     const double sigma = std::max(slam.param("hit_sigma", defaults.sensor.hit_sigma),
                                   slam.param("laser_range_sigma", 0.0));

@@ -4,18 +4,13 @@
 
 namespace evidential_slam {
 namespace ros_adapter {
+namespace {
 
-bool ExplorerNodeParams::isValid(std::string* why) const {
-  if (!explorer.isValid(why)) return false;
+// Reads every parameter forEach visits through `lookup`; unset ones keep their defaults.
+template <typename ForEach>
+bool readThroughTable(const ParameterLookup& lookup, ForEach&& for_each, std::string* why) {
   bool ok = true;
-  ES_EXPLORER_NODE_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
-  return ok;
-}
-
-bool readExplorerParams(const ParameterLookup& lookup, ExplorerNodeParams* params,
-                        std::string* why) {
-  bool ok = true;
-  forEachExplorerNodeParameter(*params, [&](const ParameterSpec& spec, auto& field) {
+  for_each([&](const ParameterSpec& spec, auto& field) {
     XmlRpc::XmlRpcValue value;
     if (!ok || !lookup(spec.name, &value)) return;
     std::string text;
@@ -27,6 +22,38 @@ bool readExplorerParams(const ParameterLookup& lookup, ExplorerNodeParams* param
     ok = parseParameter(spec, text, &field, why);
   });
   return ok;
+}
+
+}  // namespace
+
+bool ExplorerNodeParams::isValid(std::string* why) const {
+  if (!explorer.isValid(why)) return false;
+  bool ok = true;
+  ES_EXPLORER_NODE_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  return ok;
+}
+
+bool readExplorerParams(const ParameterLookup& lookup, ExplorerNodeParams* params,
+                        std::string* why) {
+  return readThroughTable(
+      lookup, [params](auto&& visit) { forEachExplorerNodeParameter(*params, visit); }, why);
+}
+
+bool ExplorationMonitorParams::isValid(std::string* why) const {
+  bool ok = true;
+  ES_EXPLORATION_MONITOR_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  return ok;
+}
+
+bool readExplorationMonitorParams(const ParameterLookup& lookup, ExplorationMonitorParams* params,
+                                  std::string* why) {
+  return readThroughTable(
+      lookup,
+      [params](auto&& visit) {
+        auto& p = *params;
+        ES_EXPLORATION_MONITOR_PARAMETERS(ES_VISIT_PARAMETER, p)
+      },
+      why);
 }
 
 std::vector<std::string> unknownExplorerParams(const std::vector<std::string>& names) {

@@ -155,6 +155,42 @@ TEST(ExplorerParams, ReadThroughTheTableAndRefusedWithAReason) {
             std::vector<std::string>({"particles"}));
 }
 
+TEST(ExplorationMonitorParams, ReadThroughTheTableAndRefusedWithAReason) {
+  std::map<std::string, XmlRpc::XmlRpcValue> server;
+  const ParameterLookup lookup = [&server](const std::string& name, XmlRpc::XmlRpcValue* v) {
+    auto it = server.find(name);
+    if (it == server.end()) return false;
+    *v = it->second;
+    return true;
+  };
+  ExplorationMonitorParams p;
+  std::string why;
+  ASSERT_TRUE(readExplorationMonitorParams(lookup, &p, &why)) << why;  // all defaults
+  EXPECT_TRUE(p.isValid(&why)) << why;
+  EXPECT_EQ(p.simulator, "gridmap_simulator");
+  EXPECT_EQ(p.slam, "evidential_slam");
+  EXPECT_EQ(p.out, "");
+  EXPECT_DOUBLE_EQ(p.coverage_period, 5.0);
+  EXPECT_TRUE(p.wait_for_saved_map);
+  EXPECT_TRUE(p.exit_when_done);
+
+  server["out"] = XmlRpc::XmlRpcValue(std::string("/tmp/x"));
+  server["coverage_period"] = XmlRpc::XmlRpcValue(2);  // an int where a double is expected
+  server["exit_when_done"] = XmlRpc::XmlRpcValue(false);
+  ASSERT_TRUE(readExplorationMonitorParams(lookup, &p, &why)) << why;
+  EXPECT_EQ(p.out, "/tmp/x");
+  EXPECT_DOUBLE_EQ(p.coverage_period, 2.0);
+  EXPECT_FALSE(p.exit_when_done);
+
+  server["coverage_period"] = XmlRpc::XmlRpcValue(0.0);
+  EXPECT_FALSE(readExplorationMonitorParams(lookup, &p, &why));
+  EXPECT_EQ(why, "coverage_period must be in [0.01, 3600]");
+  server["coverage_period"] = XmlRpc::XmlRpcValue(5.0);
+  server["simulator"] = XmlRpc::XmlRpcValue(std::string(""));
+  EXPECT_FALSE(readExplorationMonitorParams(lookup, &p, &why));
+  EXPECT_EQ(why, "simulator must not be empty");
+}
+
 }  // namespace
 }  // namespace ros_adapter
 }  // namespace evidential_slam

@@ -1,5 +1,5 @@
-// Every ROS parameter of the explorer node, read in one place by the rows of the parameter table
-// (core/parameters.def): the core Explorer's and the node's own.
+// Every ROS parameter of the explorer node (the core Explorer's and the node's own) and of
+// exploration_monitor, read by the rows of the parameter table (core/parameters.def).
 #pragma once
 
 #include <functional>
@@ -37,6 +37,17 @@ bool readExplorerParams(const ParameterLookup& lookup, ExplorerNodeParams* param
 
 // The names among `names` (private parameter names) that are no parameter of the explorer.
 std::vector<std::string> unknownExplorerParams(const std::vector<std::string>& names);
+
+// exploration_monitor's parameters (the harness of explore.launch).
+struct ExplorationMonitorParams {
+  ES_EXPLORATION_MONITOR_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+
+  bool isValid(std::string* why) const;
+};
+
+// As readExplorerParams, for exploration_monitor.
+bool readExplorationMonitorParams(const ParameterLookup& lookup, ExplorationMonitorParams* params,
+                                  std::string* why);
 
 }  // namespace ros_adapter
 }  // namespace evidential_slam
