@@ -184,7 +184,7 @@ TEST(ExplorationMonitorParams, ReadThroughTheTableAndRefusedWithAReason) {
 
   server["coverage_period"] = XmlRpc::XmlRpcValue(0.0);
   EXPECT_FALSE(readExplorationMonitorParams(lookup, &p, &why));
-  EXPECT_EQ(why, "coverage_period must be in [0.01, 3600]");
+  EXPECT_EQ(why, "coverage_period must be in [0.01, 3600] s");
   server["coverage_period"] = XmlRpc::XmlRpcValue(5.0);
   server["simulator"] = XmlRpc::XmlRpcValue(std::string(""));
   EXPECT_FALSE(readExplorationMonitorParams(lookup, &p, &why));
