@@ -2,7 +2,7 @@
 // test/data/sim_map.png's two rooms. This node watches the explorer's outputs and, once
 // exploration_monitor has written exploration.json, checks that the explorer stopped by itself
 // (latched ~done) within max_time, knows >= 95 % of the reachable free space without a
-// collision, and that the map was saved beside the file; then removes the launch's out directory.
+// collision, and that the map was saved beside the file.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -35,14 +35,6 @@ TEST(Explore, ExploresTheTwoRoomsAndStopsByItself) {
   ros::NodeHandle nh, pnh("~");
   std::string out;
   ASSERT_TRUE(pnh.getParam("out", out)) << "~out: the launch's out directory";
-  // The launch's output (saved map, exploration.json) goes when the test ends, passed or not.
-  struct RemoveOnExit {
-    std::string dir;
-    ~RemoveOnExit() {
-      std::error_code ec;
-      std::filesystem::remove_all(dir, ec);
-    }
-  } remove_out{out};
   const double wait = pnh.param("wait", 600.0);
   Observed o;
   auto sub = [&](auto cb, const std::string& topic) { return nh.subscribe(topic, 10, cb); };
