@@ -696,17 +696,18 @@ bool SlamNodelet::pauseMapping(std_srvs::SetBool::Request& request,
 }
 
 bool SlamNodelet::resetSlam(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  std::string message;
   worker_->changeOnWorker(
-      [](MappingSession& session) {
+      [&message](MappingSession& session) {
         session.setMappingPaused(false);
-        session.startOver();
+        session.startOver("reset", &message);
       },
       true);
   {
     std::lock_guard<std::mutex> lock(transform_mutex_);
     have_transform_ = false;
   }
-  NODELET_INFO("reset: the SLAM starts over with no map");
+  NODELET_INFO("%s", message.c_str());
   return true;
 }
 

@@ -149,6 +149,12 @@ void MappingSession::startOver() {
   reset();
 }
 
+void MappingSession::startOver(const std::string& reason, std::string* message) {
+  const std::string saved = saveBeforeReset();
+  startOver();
+  if (message != nullptr) *message = reason + ": the SLAM starts over with no map; " + saved;
+}
+
 bool MappingSession::startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
                                   const Pose2* odometry) {
   const double resolution = map.resolution();

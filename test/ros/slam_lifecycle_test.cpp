@@ -5,7 +5,9 @@
 // the scan matcher cannot pull such a pose back. The tests run in order on one node.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -173,10 +175,36 @@ TEST(SlamLifecycle, LoadMapContinuesAtTheSavedPose) {
   EXPECT_EQ(pathLength(now - 1.0), 1u);
 }
 
-// reset: no map until the next scan, then a new map and path from that scan.
+// The maps saved before a reset, under $ROS_HOME/evidential_slam (the nodelet's save root).
+std::vector<fs::path> savedBeforeReset() {
+  std::vector<fs::path> dirs;
+  const char* ros_home = std::getenv("ROS_HOME");
+  const fs::path root =
+      (ros_home != nullptr && *ros_home != 0 ? fs::path(ros_home)
+                                             : fs::path(std::getenv("HOME")) / ".ros") /
+      "evidential_slam";
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(root, ec)) {
+    if (entry.path().filename().string().rfind("before_reset_", 0) == 0) {
+      dirs.push_back(entry.path());
+    }
+  }
+  return dirs;
+}
+
+// reset: the map is saved first; no map until the next scan, then a new map and path from that
+// scan.
 TEST(SlamLifecycle, ResetStartsOverWithoutAMap) {
+  const std::vector<fs::path> before = savedBeforeReset();
   std_srvs::Empty reset;
   ASSERT_TRUE(ros::service::call("/evidential_slam/reset", reset));
+  const std::vector<fs::path> after = savedBeforeReset();
+  fs::path saved;
+  for (const fs::path& dir : after) {
+    if (std::find(before.begin(), before.end(), dir) == before.end()) saved = dir;
+  }
+  ASSERT_FALSE(saved.empty()) << "no before_reset_<stamp>/ saved by the reset";
+  EXPECT_TRUE(fs::is_regular_file(saved / "trajectory.tum")) << saved;
   nav_msgs::OccupancyGrid map;
   EXPECT_FALSE(getMap(&map)) << "a map is served right after reset";
   drive(1);

@@ -124,6 +124,31 @@ TEST(MappingSession, RestartWithoutASaveDirectorySaysSo) {
   EXPECT_EQ(s.engine().stats().scans_received, 0u);
 }
 
+// A user's reset (~reset) also saves the map first, then forgets it.
+TEST(MappingSession, StartOverOnRequestSavesTheMapFirst) {
+  const fs::path root = test::scratchDir();
+  MappingSession s(smallConfig());
+  s.setResetSaveRoot(root.string());
+  for (double t : {100.0, 101.0, 102.0}) feed(&s, t);
+  std::string message;
+  s.startOver("reset", &message);
+  const fs::path saved = root / "before_reset_102.000";
+  EXPECT_NE(message.find("reset: the SLAM starts over with no map"), std::string::npos) << message;
+  EXPECT_NE(message.find(saved.string()), std::string::npos) << message;
+  EXPECT_EQ(s.lastResetSave(), saved.string());
+  EXPECT_NE(test::readText(saved / "trajectory.tum").find("102.0"), std::string::npos);
+  EXPECT_EQ(s.engine().stats().scans_received, 0u);
+  // Off, nothing is written and the message says so.
+  Parameters off = smallConfig();
+  off.session.save_before_reset = false;
+  MappingSession quiet(off);
+  quiet.setResetSaveRoot((root / "off").string());
+  feed(&quiet, 100.0);
+  quiet.startOver("reset", &message);
+  EXPECT_NE(message.find("save_before_reset off"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(root / "off"));
+}
+
 TEST(MappingSession, AnUnwritableSaveDirectoryStillRestarts) {
   MappingSession s(smallConfig());
   s.setResetSaveRoot("/proc/evidential_slam_cannot_write_here");

@@ -63,6 +63,9 @@ class MappingSession {
   void reset();
   // Starts over from nothing: forgets the map startFromMap gave, then reset().
   void startOver();
+  // A user's reset (a node's ~reset): saves the map as restart() does, then startOver(). One line
+  // saying what was done (and where the map went) goes to `message`.
+  void startOver(const std::string& reason, std::string* message);
   // Starts over for `reason` (e.g. "ROS time jumped back by 60 s"), after saving the map as
   // described above. One line saying what was done (and where the map went) goes to `message`.
   void restart(const std::string& reason, std::string* message);
