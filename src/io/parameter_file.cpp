@@ -7,6 +7,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "evidential_slam/io/error_text.h"
+
 namespace evidential_slam {
 namespace io {
 namespace {
@@ -27,28 +29,55 @@ bool readParameterFile(const std::string& path,
                        std::vector<std::pair<std::string, std::string>>* entries,
                        std::string* error) {
   entries->clear();
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in || in.bad()) {
+    if (error != nullptr) *error = path + ": cannot read the file";
+    return false;
+  }
+  return readParameterText(text.str(), path, entries, error);
+}
+
+bool readParameterText(const std::string& text, const std::string& source,
+                       std::vector<std::pair<std::string, std::string>>* entries,
+                       std::string* error) {
+  entries->clear();
   auto fail = [&](const std::string& why) {
-    if (error != nullptr) *error = path + ": " + why;
+    entries->clear();
+    if (error != nullptr) *error = source + ": " + why;
     return false;
   };
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return fail("cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return fail("cannot read the file");
   try {
-    const YAML::Node root = YAML::Load(text.str());
+    const YAML::Node root = YAML::Load(text);
     if (root.IsNull()) return true;
     if (!root.IsMap()) return fail("not a map of `name: value` lines");
     for (const auto& item : root) {
       if (!item.first.IsScalar()) return fail("a key is not a name");
       const std::string name = item.first.Scalar();
-      if (!item.second.IsScalar()) return fail(name + ": the value is not a single value");
+      if (!item.second.IsScalar()) {
+        return fail(quotedForMessage(name) + ": the value is not a single value");
+      }
       entries->emplace_back(name, normaliseSwitch(item.second.Scalar()));
     }
   } catch (const YAML::Exception& e) {
-    entries->clear();
-    return fail("not YAML (line " + std::to_string(e.mark.line + 1) + ": " + e.msg + ")");
+    return fail("not YAML (line " + std::to_string(e.mark.line + 1) + ": " +
+                oneLineMessage(e.msg) + ")");
+  }
+  return true;
+}
+
+bool applyParameterEntries(const std::vector<std::pair<std::string, std::string>>& entries,
+                           const std::string& source, Parameters* params,
+                           std::vector<std::string>* ignored, std::string* error) {
+  for (const auto& [name, text] : entries) {
+    std::string why;
+    if (isNodeParameter(name)) {
+      if (ignored != nullptr) ignored->push_back(name);
+    } else if (!setParameter(name, text, params, &why)) {
+      if (error != nullptr) *error = source + ": " + oneLineMessage(why);
+      return false;
+    }
   }
   return true;
 }

@@ -558,13 +558,9 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
   for (const std::string& file : o->config_files) {
     std::vector<std::pair<std::string, std::string>> entries;
     std::string why;
-    if (!readParameterFile(file, &entries, &why)) return bad(why);
-    for (const auto& [name, text] : entries) {
-      if (isNodeParameter(name)) {
-        o->ignored.push_back(name);
-      } else if (!setParameter(name, text, &o->params, &why)) {
-        return bad(file + ": " + why);
-      }
+    if (!readParameterFile(file, &entries, &why) ||
+        !applyParameterEntries(entries, file, &o->params, &o->ignored, &why)) {
+      return bad(why);
     }
   }
   for (const auto& [name, text] : o->parameters) {

@@ -79,7 +79,7 @@ TEST_P(FuzzSmoke, SurvivesItsCorpusAndAFixedNumberOfFuzzedInputs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Readers, FuzzSmoke,
-                         ::testing::Values("rawlog", "ground_truth", "waypoints"),
+                         ::testing::Values("rawlog", "ground_truth", "waypoints", "yaml_config"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

@@ -155,6 +155,22 @@ TEST(OfflineArgs, BadConfigFiles) {
   EXPECT_NE(error.find("particels"), std::string::npos) << error;
 }
 
+// Names and values are the file's bytes: the error shows them as printable text, on one line.
+TEST(OfflineArgs, ConfigFileErrorsArePrintable) {
+  const TempFile unknown("par\x1b[2J\xffticles: 3\n");
+  const TempFile not_single("\x07bell: [1, 2]\n");
+  const TempFile bad_value("particles: \"3\\r\\n0\\x01\"\n");
+  for (const std::string& path : {unknown.path, not_single.path, bad_value.path}) {
+    OfflineOptions o;
+    std::string error;
+    EXPECT_FALSE(parse({"--rawlog", "a", "--out", "b", "--config", path}, &o, &error)) << path;
+    EXPECT_NE(error.find(path), std::string::npos) << error;
+    for (unsigned char c : error) {
+      EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in: " << error;
+    }
+  }
+}
+
 // Every file in config/ that holds parameters reads, sets only known parameters and validates.
 TEST(OfflineArgs, EveryShippedConfigFileLoads) {
   const std::string dir = std::string(ES_TEST_DATA_DIR) + "/../../config";

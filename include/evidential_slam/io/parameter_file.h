@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "evidential_slam/core/parameters.h"
+
 namespace evidential_slam {
 namespace io {
 
@@ -17,6 +19,17 @@ namespace io {
 bool readParameterFile(const std::string& path,
                        std::vector<std::pair<std::string, std::string>>* entries,
                        std::string* error);
+// The same for the text of a file; `source` names it in the error.
+bool readParameterText(const std::string& text, const std::string& source,
+                       std::vector<std::pair<std::string, std::string>>* entries,
+                       std::string* error);
+
+// Sets the shared parameters of `entries` (read from `source`) in `params` (setParameter); the
+// names of node parameters go to `ignored` instead. False at the first bad entry with a one-line
+// `error` naming `source`, printable whatever bytes the file held.
+bool applyParameterEntries(const std::vector<std::pair<std::string, std::string>>& entries,
+                           const std::string& source, Parameters* params,
+                           std::vector<std::string>* ignored, std::string* error);
 
 }  // namespace io
 }  // namespace evidential_slam
