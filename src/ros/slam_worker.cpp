@@ -1,5 +1,7 @@
 #include "evidential_slam/ros/slam_worker.h"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <future>
@@ -136,6 +138,8 @@ void SlamWorker::afterRestart() {
 }
 
 void SlamWorker::run() {
+  // Named for top and /proc/<pid>/task/*/comm (scripts/soak reads the filter's CPU time there).
+  pthread_setname_np(pthread_self(), "slam_worker");
   auto warn = [this](const std::string& message, bool restarted = false) {
     if (callbacks_.on_warning) callbacks_.on_warning(message, restarted);
   };
