@@ -11,9 +11,10 @@ filter thread ("slam_worker" in /proc/PID/task/*/comm).
          (sent, received, handled, drops by kind, queue length) and RSS at start, middle and end;
          exit 1 when a scan is not accounted for (received != handled + dropped) or one sent was
          not received.
-  saves  --scans N [--saves S --save-dir DIR]: publish N scans (and call ~save_map S times into
-         DIR meanwhile, publishing on until they are done); print the filter thread's CPU seconds
-         per handled scan.
+  saves  --saves S --save-dir DIR [--block B --max-seconds T]: publish scans in blocks of B
+         seconds, calling ~save_map into DIR throughout every other block, until S calls (or T
+         seconds) and as many blocks with saves as without; print the filter thread's CPU
+         seconds per handled scan in each kind of block (both see the same load).
 """
 import argparse
 import math
@@ -228,52 +229,69 @@ def flood(args, hb, robot):
 
 
 def saves(args, hb, robot):
+    """Blocks of --block seconds, saving in every other one, so both kinds see the same load."""
     from evidential_slam.srv import SaveMap
-    done = {"calls": 0, "failed": 0, "first_error": ""}
+    state = {"saving": False, "calls": 0, "failed": 0, "first_error": "", "stop": False}
 
     def saver():
         rospy.wait_for_service("/evidential_slam/save_map", 30)
         call = rospy.ServiceProxy("/evidential_slam/save_map", SaveMap, persistent=True)
-        while done["calls"] < args.saves and not rospy.is_shutdown():
+        while not state["stop"] and state["calls"] < args.saves and not rospy.is_shutdown():
+            if not state["saving"]:
+                time.sleep(0.05)
+                continue
             try:
                 r = call(args.save_dir)
-                ok = r.success
-                why = r.message
+                ok, why = r.success, r.message
             except rospy.ServiceException as e:
                 ok, why = False, str(e)
-            done["calls"] += 1
+            state["calls"] += 1
             if not ok:
-                done["failed"] += 1
-                done["first_error"] = done["first_error"] or why
+                state["failed"] += 1
+                state["first_error"] = state["first_error"] or why
 
-    period = 1.0 / args.rate
-    cpu0 = worker_cpu_s(args.pid)
-    handled0 = hb.get("scans handled")
-    t0 = time.time()
-    thread = None
+    thread = threading.Thread(target=saver, daemon=True)
     if args.saves > 0:
-        thread = threading.Thread(target=saver, daemon=True)
         thread.start()
+    period = 1.0 / args.rate
+    totals = {False: [0.0, 0.0], True: [0.0, 0.0]}  # saving -> [cpu s, handled]
+    blocks = {False: 0, True: 0}
+    t0 = time.time()
+    mark = (time.time(), worker_cpu_s(args.pid), hb.get("scans handled"))
+    next_pub = t0
     while not rospy.is_shutdown():
-        if robot.sent >= args.scans and (thread is None or not thread.is_alive()):
-            break
-        robot.step()
-        time.sleep(period)
+        now = time.time()
+        if now - mark[0] >= args.block:
+            hb.wait_newer()
+            cpu, handled = worker_cpu_s(args.pid), hb.get("scans handled")
+            totals[state["saving"]][0] += cpu - mark[1]
+            totals[state["saving"]][1] += handled - mark[2]
+            blocks[state["saving"]] += 1
+            mark = (time.time(), cpu, handled)
+            done = now - t0 >= args.max_seconds or (args.saves > 0 and state["calls"] >= args.saves)
+            if done and blocks[True] == blocks[False]:
+                break
+            state["saving"] = args.saves > 0 and not state["saving"]
+        if now >= next_pub:
+            robot.step()
+            next_pub = max(next_pub + period, now - 1.0)
+        time.sleep(max(0.0, min(next_pub, mark[0] + args.block) - time.time()))
+    state["saving"] = False
+    state["stop"] = True
     wall = time.time() - t0
-    drain(hb, 120.0)
-    time.sleep(1.5)
-    hb.wait_newer()
-    handled = hb.get("scans handled") - handled0
-    cpu = worker_cpu_s(args.pid) - cpu0
-    print("saves: %d scans sent in %.0f s, %d handled, queue-full drops %d; %d save_map calls "
-          "(%d failed%s)" % (robot.sent, wall, handled, hb.get("dropped: queue full"),
-                             done["calls"], done["failed"],
-                             (": " + done["first_error"]) if done["failed"] else ""))
-    print("saves: filter thread CPU %.2f s, %.2f ms per handled scan; node RSS %.1f MB" % (
-        cpu, 1000.0 * cpu / max(1.0, handled), rss_mb(args.pid)))
-    print("RESULT cpu_per_scan_ms=%.3f handled=%d saves=%d failed=%d" % (
-        1000.0 * cpu / max(1.0, handled), handled, done["calls"], done["failed"]))
-    return done["failed"] == 0 and done["calls"] == args.saves
+    ms = {k: 1000.0 * v[0] / max(1.0, v[1]) for k, v in totals.items()}
+    print("saves: %.0f s, %d scans sent, queue-full drops %d; %d save_map calls (%d failed%s); "
+          "node RSS %.1f MB" % (wall, robot.sent, hb.get("dropped: queue full"), state["calls"],
+                                state["failed"],
+                                (": " + state["first_error"]) if state["failed"] else "",
+                                rss_mb(args.pid)))
+    for k in (False, True):
+        print("saves: %d blocks of %.0f s %s saves: %d scans handled, filter thread CPU %.2f s, "
+              "%.2f ms per scan" % (blocks[k], args.block, "with" if k else "without",
+                                     totals[k][1], totals[k][0], ms[k]))
+    print("RESULT without_ms=%.3f with_ms=%.3f saves=%d failed=%d" % (
+        ms[False], ms[True], state["calls"], state["failed"]))
+    return state["failed"] == 0
 
 
 def main():
@@ -285,6 +303,8 @@ def main():
     ap.add_argument("--scans", type=int, default=300)
     ap.add_argument("--saves", type=int, default=0)
     ap.add_argument("--save-dir", default="/tmp/soak_saves")
+    ap.add_argument("--max-seconds", type=float, default=1e9, help="stop after this")
+    ap.add_argument("--block", type=float, default=60.0, help="seconds with, then without saves")
     args = ap.parse_args()
     rospy.init_node("soak_driver", disable_signals=True)
     hb = Heartbeat()
