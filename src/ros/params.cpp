@@ -63,6 +63,12 @@ bool NodeParams::isValid(std::string* why) const {
     return fail("map_frame, odom_frame and base_frame must not be empty");
   }
   if (map_frame == odom_frame) return fail("map_frame and odom_frame must differ");
+  if (mode != "slam" && mode != "localization") {
+    return fail("mode must be slam or localization, not '" + mode + "'");
+  }
+  if (mode == "localization" && map_file.empty()) {
+    return fail("mode localization needs map_file (the saved map to localize on)");
+  }
   return true;
 }
 
