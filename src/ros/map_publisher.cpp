@@ -69,7 +69,8 @@ void MapPublisher::run() {
 }
 
 void MapPublisher::publish(const MapSnapshot& snapshot, bool changed) {
-  const AnomalyGrid anomaly = accumulateAnomaly(snapshot.anomaly.get());
+  const AnomalyGrid anomaly =
+      snapshot.anomaly_grid ? *snapshot.anomaly_grid : accumulateAnomaly(snapshot.anomaly.get());
   const LayerRaster raster = extractLayers(*snapshot.grid, 10, &anomaly);
   std_msgs::Header header;
   header.stamp.fromSec(snapshot.stamp);

@@ -22,6 +22,7 @@ void forEachReconfigurable(Params& p, Cfg& cfg, Visitor&& visit) {
   ES_SLAM_CONFIG_PARAMETERS(ES_BIND_RECONFIGURE, p.slam)
   ES_CONFLICT_ALARM_PARAMETERS(ES_BIND_RECONFIGURE, p.conflict_alarm)
   ES_SESSION_PARAMETERS(ES_BIND_RECONFIGURE, p.session)
+  ES_LOCALIZATION_PARAMETERS(ES_BIND_RECONFIGURE, p.localization)
   ES_NODE_PARAMETERS(ES_BIND_RECONFIGURE, p)
 }
 
@@ -62,6 +63,12 @@ bool NodeParams::isValid(std::string* why) const {
     return fail("map_frame, odom_frame and base_frame must not be empty");
   }
   if (map_frame == odom_frame) return fail("map_frame and odom_frame must differ");
+  if (mode != "slam" && mode != "localization") {
+    return fail("mode must be slam or localization, not '" + mode + "'");
+  }
+  if (mode == "localization" && map_file.empty()) {
+    return fail("mode localization needs map_file (the saved map to localize on)");
+  }
   return true;
 }
 

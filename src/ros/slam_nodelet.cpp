@@ -73,6 +73,7 @@ void SlamNodelet::onInit() {
     NODELET_FATAL("evidential_slam: invalid parameters: %s; the SLAM does not start", why.c_str());
     return;
   }
+  localization_mode_ = params_.mode == "localization";
   for (const std::string& name : unknown) {
     NODELET_WARN("evidential_slam: '%s' is not a parameter of evidential_slam (ignored)",
                  name.c_str());
@@ -135,6 +136,10 @@ void SlamNodelet::onInit() {
   load_map_srv_ = mt_private_nh.advertiseService("load_map", &SlamNodelet::loadMap, this);
   pause_srv_ = mt_private_nh.advertiseService("pause_mapping", &SlamNodelet::pauseMapping, this);
   reset_srv_ = mt_private_nh.advertiseService("reset", &SlamNodelet::resetSlam, this);
+  if (localizationMode()) {
+    global_localization_srv_ = mt_private_nh.advertiseService(
+        "global_localization", &SlamNodelet::globalLocalization, this);
+  }
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<EvidentialSlamConfig>>(
       reconfigure_mutex_, private_nh_);
@@ -171,6 +176,14 @@ void SlamNodelet::onInit() {
   heartbeat_timer_ = nh_.createWallTimer(
       ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->force_update(); });
 
+  if (localizationMode()) {
+    NODELET_INFO(
+        "evidential_slam: localization, %d-%d particles; frames %s -> %s -> %s; listening on %s",
+        params_.localization.min_particles, params_.localization.max_particles,
+        params_.map_frame.c_str(), params_.odom_frame.c_str(), params_.base_frame.c_str(),
+        nh_.resolveName("scan").c_str());
+    return;
+  }
   NODELET_INFO(
       "evidential_slam: %d particles, %.3f m cells; frames %s -> %s -> %s; listening on %s",
       params_.slam.particles, params_.slam.resolution, params_.map_frame.c_str(),
@@ -306,15 +319,17 @@ void SlamNodelet::onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
 
 void SlamNodelet::onScanHandled(const MappingSession& session, const SessionScanResult& result) {
   const SlamEngine& engine = session.engine();
+  const bool localizing = session.localizing();
   const ScanUpdate& update = result.update;
   std::string map_frame;
   {
     std::lock_guard<std::mutex> lock(params_mutex_);
     map_frame = params_.map_frame;
   }
+  if (localizing && !session.localizer().initialized()) return;
   {
     std::lock_guard<std::mutex> lock(transform_mutex_);
-    map_to_odom_ = engine.mapToOdom();
+    map_to_odom_ = localizing ? session.localizer().mapToOdom() : engine.mapToOdom();
     have_transform_ = true;
   }
   ros::Time ros_stamp;
@@ -322,10 +337,33 @@ void SlamNodelet::onScanHandled(const MappingSession& session, const SessionScan
   // A paused scan adds no conflict: the alarm did not see it.
   if (update.processed && !session.mappingPaused()) reportConflict(result, ros_stamp);
 
-  const PoseEstimate estimate = engine.poseEstimate();
+  publishEstimate(session, ros_stamp);
+  if (result.processed() && path_pub_.getNumSubscribers() > 0) {
+    nav_msgs::Path path;
+    path.header.stamp = ros_stamp;
+    path.header.frame_id = map_frame;
+    for (const StampedPose& p :
+         localizing ? session.localizer().trajectory() : engine.bestTrajectory()) {
+      geometry_msgs::PoseStamped ps;
+      ps.header.stamp.fromSec(p.stamp);
+      ps.header.frame_id = map_frame;
+      ps.pose = toPoseMsg(p.pose);
+      path.poses.push_back(ps);
+    }
+    path_pub_.publish(path);
+  }
+}
+
+void SlamNodelet::publishEstimate(const MappingSession& session, const ros::Time& stamp) {
+  const bool localizing = session.localizing();
+  const SlamEngine& engine = session.engine();
+  const PoseEstimate estimate = localizing ? session.localizer().estimate() : engine.poseEstimate();
   geometry_msgs::PoseWithCovarianceStamped pose;
-  pose.header.stamp = ros_stamp;
-  pose.header.frame_id = map_frame;
+  pose.header.stamp = stamp;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    pose.header.frame_id = params_.map_frame;
+  }
   pose.pose.pose = toPoseMsg(estimate.mean);
   // Row-major 6x6 over (x, y, z, roll, pitch, yaw); the planar entries are the particles'.
   const int index[3] = {0, 1, 5};
@@ -338,23 +376,15 @@ void SlamNodelet::onScanHandled(const MappingSession& session, const SessionScan
   if (particles_pub_.getNumSubscribers() > 0) {
     std::vector<Pose2> poses;
     std::vector<double> weights;
-    engine.particlePoses(&poses, &weights);
+    if (localizing) {
+      for (const LocalizationParticle& p : session.localizer().particles()) poses.push_back(p.pose);
+    } else {
+      engine.particlePoses(&poses, &weights);
+    }
     geometry_msgs::PoseArray array;
     array.header = pose.header;
     for (const Pose2& p : poses) array.poses.push_back(toPoseMsg(p));
     particles_pub_.publish(array);
-  }
-  if (update.processed && path_pub_.getNumSubscribers() > 0) {
-    nav_msgs::Path path;
-    path.header = pose.header;
-    for (const StampedPose& p : engine.bestTrajectory()) {
-      geometry_msgs::PoseStamped ps;
-      ps.header.stamp.fromSec(p.stamp);
-      ps.header.frame_id = map_frame;
-      ps.pose = toPoseMsg(p.pose);
-      path.poses.push_back(ps);
-    }
-    path_pub_.publish(path);
   }
 }
 
@@ -466,7 +496,7 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
   SessionConfig config;
   bool have_map = false;
   worker_->runOnWorker([&](const MappingSession& session) {
-    have_map = !session.engine().filter().particles().empty();
+    have_map = session.localizing() || !session.engine().filter().particles().empty();
     if (!have_map) return;
     save = captureMapSave(session);
     config = session.parameters().session;
@@ -509,7 +539,8 @@ void SlamNodelet::heartbeat(diagnostic_updater::DiagnosticStatusWrapper& status)
   } else if (received == 0 || rate == 0.0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no scans");
   } else {
-    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK,
+                   localizationMode() ? "localizing" : "mapping");
   }
   status.add("scan rate (Hz)", rate);
   status.add("scans received", received);
@@ -554,6 +585,22 @@ bool SlamNodelet::startFromParameters(std::string* why) {
                           private_nh_.hasParam("initial_pose_y") ||
                           private_nh_.hasParam("initial_pose_a");
   const Pose2 initial_pose(params_.initial_pose_x, params_.initial_pose_y, params_.initial_pose_a);
+  if (localizationMode()) {
+    LoadedMap loaded;
+    if (!loadMapFile(params_.map_file, &loaded, why)) {
+      *why = "map_file: " + *why;
+      return false;
+    }
+    const Pose2 start = pose_given ? initial_pose : loaded.info.robot_pose;
+    if (!localizeOn(loaded.map, startAt(start), why)) {
+      *why = "map_file: " + *why;
+      return false;
+    }
+    NODELET_INFO("evidential_slam: localizing on %s (%zu tiles) from (%.3f, %.3f, %.3f), %s",
+                 loaded.path.c_str(), loaded.map.allocatedTiles(), start.x, start.y, start.theta,
+                 pose_given ? "initial_pose_*" : "the pose saved in the file");
+    return true;
+  }
   if (params_.map_file.empty()) {
     if (!pose_given) return true;
     if (startOnMap(EvidentialGridMap(params_.slam.resolution), initial_pose, nullptr, why)) {
@@ -636,9 +683,28 @@ void SlamNodelet::onInitialPose(const geometry_msgs::PoseWithCovarianceStamped::
       return;
     }
   }
+  std::string why;
+  if (localizationMode()) {
+    // amcl's use: the particles are drawn from the message's covariance (x, y, yaw entries).
+    LocalizationStart start;
+    start.pose = pose;
+    const int index[3] = {0, 1, 5};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        start.covariance(r, c) = msg->pose.covariance[index[r] * 6 + index[c]];
+      }
+    }
+    if (!restartLocalization(start, &why)) {
+      NODELET_WARN("initialpose (%.3f, %.3f, %.3f) ignored: %s", pose.x, pose.y, pose.theta,
+                   why.c_str());
+      return;
+    }
+    NODELET_INFO("initialpose: the particles start again around (%.3f, %.3f, %.3f)", pose.x, pose.y,
+                 pose.theta);
+    return;
+  }
   Pose2 odometry;
   const bool have_odometry = currentOdometry(&odometry);
-  std::string why;
   bool ok = false;
   EvidentialGridMap map;
   worker_->runOnWorker([&](const MappingSession& session) { map = session.currentMap(); });
@@ -665,10 +731,15 @@ bool SlamNodelet::loadMap(LoadMap::Request& request, LoadMap::Response& response
                            : loaded.info.robot_pose;
     Pose2 odometry;
     const bool have_odometry = currentOdometry(&odometry);
-    if (startOnMap(loaded.map, pose, have_odometry ? &odometry : nullptr, &why)) {
+    const bool started = localizationMode()
+                             ? localizeOn(loaded.map, startAt(pose), &why)
+                             : startOnMap(loaded.map, pose, have_odometry ? &odometry : nullptr,
+                                          &why);
+    if (started) {
       char text[256];
-      std::snprintf(text, sizeof(text), "continuing on %s (%zu tiles, %g m cells) at (%.3f, %.3f, "
+      std::snprintf(text, sizeof(text), "%s on %s (%zu tiles, %g m cells) at (%.3f, %.3f, "
                     "%.3f)%s",
+                    localizationMode() ? "localizing" : "continuing",
                     loaded.path.c_str(), loaded.map.allocatedTiles(), loaded.map.resolution(),
                     pose.x, pose.y, pose.theta,
                     request.use_pose ? "" : " (the pose saved in the file)");
@@ -685,6 +756,11 @@ bool SlamNodelet::loadMap(LoadMap::Request& request, LoadMap::Response& response
 
 bool SlamNodelet::pauseMapping(std_srvs::SetBool::Request& request,
                                std_srvs::SetBool::Response& response) {
+  if (localizationMode()) {
+    response.success = false;
+    response.message = "localization mode: the map is never changed";
+    return true;
+  }
   const bool pause = request.data;
   worker_->changeOnWorker([pause](MappingSession& session) { session.setMappingPaused(pause); },
                           false);
@@ -696,6 +772,11 @@ bool SlamNodelet::pauseMapping(std_srvs::SetBool::Request& request,
 }
 
 bool SlamNodelet::resetSlam(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  if (localizationMode()) {
+    worker_->changeOnWorker([](MappingSession& session) { session.reset(); }, true);
+    NODELET_INFO("reset: the particles start again as they did on the map");
+    return true;
+  }
   std::string message;
   worker_->changeOnWorker(
       [&message](MappingSession& session) {
@@ -709,6 +790,53 @@ bool SlamNodelet::resetSlam(std_srvs::Empty::Request&, std_srvs::Empty::Response
   }
   NODELET_INFO("%s", message.c_str());
   return true;
+}
+
+bool SlamNodelet::globalLocalization(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  LocalizationStart start;
+  start.global = true;
+  std::string why;
+  if (!restartLocalization(start, &why)) {
+    NODELET_ERROR("global_localization: %s", why.c_str());
+    return false;
+  }
+  NODELET_INFO("global_localization: the particles are spread over the map's free space");
+  return true;
+}
+
+LocalizationStart SlamNodelet::startAt(const Pose2& pose) {
+  LocalizationStart start;
+  start.pose = pose;
+  std::lock_guard<std::mutex> lock(params_mutex_);
+  const LocalizationConfig& c = params_.localization;
+  start.covariance.diagonal() << c.initial_cov_xx, c.initial_cov_yy, c.initial_cov_aa;
+  return start;
+}
+
+bool SlamNodelet::localizeOn(const EvidentialGridMap& map, const LocalizationStart& start,
+                             std::string* why) {
+  bool ok = false;
+  worker_->changeOnWorker(
+      [&](MappingSession& session) { ok = session.startLocalization(map, start, why); }, true);
+  if (!ok) return false;
+  {
+    std::lock_guard<std::mutex> lock(transform_mutex_);
+    have_transform_ = false;  // known at the next scan
+  }
+  if (map_publisher_) map_publisher_->requestUpdate();
+  return true;
+}
+
+bool SlamNodelet::restartLocalization(const LocalizationStart& start, std::string* why) {
+  bool ok = false;
+  worker_->changeOnWorker(
+      [&](MappingSession& session) {
+        ok = session.restartLocalization(start, why);
+        // The new cloud at once (rviz; amcl publishes it at the next update).
+        if (ok) publishEstimate(session, ros::Time::now());
+      },
+      false);
+  return ok;
 }
 
 }  // namespace ros_adapter

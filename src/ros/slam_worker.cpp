@@ -87,18 +87,27 @@ void SlamWorker::changeOnWorker(const std::function<void(MappingSession& session
                                 bool map_changed) {
   runTask([&] {
     change(session_);
-    if (!map_changed) return;
-    std::shared_ptr<const EvidentialGridMap> grid;
-    std::shared_ptr<const AnomalyNode> anomaly;
-    if (!session_.engine().filter().particles().empty()) {
-      grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
-      anomaly = session_.engine().bestAnomalyLineage();
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    map_.grid = std::move(grid);
-    map_.anomaly = std::move(anomaly);
-    ++map_.version;
+    if (map_changed) updateSnapshot(nullptr);
   });
+}
+
+void SlamWorker::updateSnapshot(const double* stamp) {
+  std::shared_ptr<const EvidentialGridMap> grid;
+  std::shared_ptr<const AnomalyNode> anomaly;
+  std::shared_ptr<const AnomalyGrid> anomaly_grid;
+  if (session_.localizing()) {
+    grid = std::make_shared<const EvidentialGridMap>(session_.localizer().map());
+    anomaly_grid = std::make_shared<const AnomalyGrid>(session_.localizer().anomaly());
+  } else if (!session_.engine().filter().particles().empty()) {
+    grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
+    anomaly = session_.engine().bestAnomalyLineage();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_.grid = std::move(grid);
+  map_.anomaly = std::move(anomaly);
+  map_.anomaly_grid = std::move(anomaly_grid);
+  if (stamp != nullptr) map_.stamp = *stamp;
+  ++map_.version;
 }
 
 MapSnapshot SlamWorker::latestMap() const {
@@ -127,10 +136,8 @@ WorkerStats SlamWorker::stats() const {
 }
 
 void SlamWorker::afterRestart() {
+  updateSnapshot(nullptr);  // no map in SLAM mode; the stored one in localization mode
   std::lock_guard<std::mutex> lock(mutex_);
-  map_.grid.reset();
-  map_.anomaly.reset();
-  ++map_.version;
   ++resets_;
   stats_.restarts = session_.restarts();
   stats_.last_reset_save = session_.lastResetSave();
@@ -199,18 +206,10 @@ void SlamWorker::run() {
       }
       if (result.used()) {
         const double stamp = item.scan.stamp;
-        if (result.update.rejected) {
-          warn("scan at " + std::to_string(stamp) + " unusable: " + result.update.why);
+        if (result.rejected()) {
+          warn("scan at " + std::to_string(stamp) + " unusable: " + result.rejectionReason());
         }
-        if (result.update.processed) {
-          auto grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
-          auto anomaly = session_.engine().bestAnomalyLineage();
-          std::lock_guard<std::mutex> relock(mutex_);
-          map_.grid = std::move(grid);
-          map_.anomaly = std::move(anomaly);
-          map_.stamp = stamp;
-          ++map_.version;
-        }
+        if (result.processed()) updateSnapshot(&stamp);
         if (callbacks_.on_scan) callbacks_.on_scan(session_, result);
       }
       lock.lock();

@@ -140,6 +140,24 @@ TEST(Params, Validation) {
   EXPECT_FALSE(p.isValid(&why));
 }
 
+// mode: slam or localization; localization needs map_file. One line each.
+TEST(Params, ModeAndItsMap) {
+  NodeParams p;
+  std::string why;
+  EXPECT_EQ(p.mode, "slam");
+  p.mode = "amcl";
+  EXPECT_FALSE(p.isValid(&why));
+  EXPECT_EQ(why, "mode must be slam or localization, not 'amcl'");
+  p.mode = "localization";
+  EXPECT_FALSE(p.isValid(&why));
+  EXPECT_EQ(why, "mode localization needs map_file (the saved map to localize on)");
+  p.map_file = "/maps/office";
+  EXPECT_TRUE(p.isValid(&why)) << why;
+  p.localization.min_particles = 6000;  // above max_particles
+  EXPECT_FALSE(p.isValid(&why));
+  EXPECT_EQ(why, "min_particles must not be above max_particles");
+}
+
 }  // namespace
 }  // namespace ros_adapter
 }  // namespace evidential_slam

@@ -1,8 +1,9 @@
 // The SLAM nodelet: LaserScan (through a tf2 MessageFilter) + odometry from tf in; map->odom tf,
 // ~pose, ~particles, ~path and the map topics (MapPublisher) out; /initialpose and the services
-// that save, load, pause and reset the map. Thin by design: conversions live in conversions.h,
-// parameters in params.h, map files in session/map_files.h, the filter runs on SlamWorker's
-// thread.
+// that save, load, pause and reset the map. With mode localization the same node localizes on
+// map_file's map (the session's Localizer) and offers ~global_localization. Thin by design:
+// conversions live in conversions.h, parameters in params.h, map files in session/map_files.h, the
+// filter runs on SlamWorker's thread.
 #pragma once
 
 #include <atomic>
@@ -51,11 +52,21 @@ class SlamNodelet : public nodelet::Nodelet {
   void onReconfigure(EvidentialSlamConfig& config, uint32_t level);
   void publishTransform(const ros::TimerEvent&);
   void reportConflict(const SessionScanResult& result, const ros::Time& stamp);
+  // ~pose and ~particles (while subscribed) from the session's engine, stamped `stamp`.
+  void publishEstimate(const MappingSession& session, const ros::Time& stamp);
   bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
   bool getMap(nav_msgs::GetMap::Request& request, nav_msgs::GetMap::Response& response);
   bool loadMap(LoadMap::Request& request, LoadMap::Response& response);
   bool pauseMapping(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
   bool resetSlam(std_srvs::Empty::Request& request, std_srvs::Empty::Response& response);
+  bool globalLocalization(std_srvs::Empty::Request& request, std_srvs::Empty::Response& response);
+  // Localization mode: localizes on `map` from `start`. False and `why` when refused.
+  bool localizeOn(const EvidentialGridMap& map, const LocalizationStart& start, std::string* why);
+  // Localization mode: the particles start again as `start` says on the same map.
+  bool restartLocalization(const LocalizationStart& start, std::string* why);
+  // Localization mode: `pose` with the initial_cov_* variances.
+  LocalizationStart startAt(const Pose2& pose);
+  bool localizationMode() const { return localization_mode_; }
   void onInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg);
   // Restarts the SLAM on `map` at `pose` (map frame). With the odometry pose at that moment
   // (`odometry`, from tf) the scans to come are placed by the odometry since; map -> odom is
@@ -72,6 +83,7 @@ class SlamNodelet : public nodelet::Nodelet {
   ros::NodeHandle nh_, private_nh_;
   std::mutex params_mutex_;
   NodeParams params_;
+  bool localization_mode_ = false;  // mode: localization (a start-up parameter)
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -84,7 +96,8 @@ class SlamNodelet : public nodelet::Nodelet {
   // map's open space that the alarm watches (~open_space_conflict_added) and a diagnostic_msgs
   // status on /diagnostics; a warning when a new alarm rises.
   ros::Publisher conflict_pub_, open_space_conflict_pub_, diagnostics_pub_;
-  ros::ServiceServer save_map_srv_, get_map_srv_, load_map_srv_, pause_srv_, reset_srv_;
+  ros::ServiceServer save_map_srv_, get_map_srv_, load_map_srv_, pause_srv_, reset_srv_,
+      global_localization_srv_;
   ros::Subscriber initial_pose_sub_;
   ros::Timer map_timer_, tf_timer_;
   // The filter holds a scan until its tf arrives and says nothing meanwhile: this watchdog warns,

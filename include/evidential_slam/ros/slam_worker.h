@@ -24,6 +24,8 @@ struct MapSnapshot {
   double stamp = 0.0;                             // of the scan that last changed it
   uint64_t version = 0;                           // changes whenever the map does (0: no map)
   std::shared_ptr<const AnomalyNode> anomaly;      // the best particle's (core/anomaly.h)
+  // Localization mode: the anomaly against the stored map (`grid`), instead of `anomaly`.
+  std::shared_ptr<const AnomalyGrid> anomaly_grid;
 };
 
 // What the worker has done so far (the node's heartbeat on /diagnostics).
@@ -91,6 +93,10 @@ class SlamWorker {
   // Queues `task` for the worker thread and waits until it ran.
   void runTask(const std::function<void()>& task);
   void afterRestart();  // on the worker thread, after the session started over
+  // On the worker thread: the snapshot becomes the session's current map and anomaly (none
+  // before the first particle in SLAM mode; the stored map in localization mode), at `stamp`
+  // when given.
+  void updateSnapshot(const double* stamp);
 
   MappingSession session_;
   const size_t max_queue_;

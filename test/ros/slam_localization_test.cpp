@@ -1,0 +1,198 @@
+// rostest for mode localization (slam_localization.test): the node serves the stored map and
+// leaves it as it is, its ~pose follows the truth where the map covers the log, ~layers/anomaly comes against the stored
+// map, /initialpose moves the cloud to the given pose and spread, ~global_localization spreads
+// max_particles over the map.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PoseArray.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <std_msgs/Bool.h>
+#include <std_srvs/Empty.h>
+
+#include "evidential_slam/core/layers.h"
+#include "evidential_slam/io/ground_truth.h"
+#include "evidential_slam/io/map_file.h"
+#include "evidential_slam/ros/conversions.h"
+#include "ros_test_support.h"
+
+namespace evidential_slam {
+namespace {
+
+struct Seen {
+  std::mutex mutex;
+  nav_msgs::OccupancyGrid::ConstPtr first_map;
+  nav_msgs::OccupancyGrid::ConstPtr last_map;
+  int maps = 0;
+  nav_msgs::OccupancyGrid::ConstPtr anomaly;
+  std::map<double, Pose2> poses;  // ~pose by stamp
+  geometry_msgs::PoseWithCovarianceStamped::ConstPtr last_pose;
+  geometry_msgs::PoseArray::ConstPtr particles;
+  bool done = false;
+};
+Seen* seen = nullptr;
+
+std::string param(const std::string& name) {
+  std::string value;
+  ros::param::get("~" + name, value);
+  return value;
+}
+
+// Before the player's first scan, /map is the stored map, trinary.
+TEST(SlamLocalization, ServesTheStoredMap) {
+  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, [] { return seen->first_map != nullptr; }, 30.0));
+  EvidentialGridMap stored;
+  io::MapFileInfo info;
+  std::string error;
+  ASSERT_TRUE(io::readMapFile(param("map_file"), &stored, &info, &error)) << error;
+  std_msgs::Header header;
+  nav_msgs::OccupancyGrid expected;
+  ros_adapter::toTrinaryOccupancyGrid(extractLayers(stored), 0.65, 0.196, header, &expected);
+  std::lock_guard<std::mutex> lock(seen->mutex);
+  EXPECT_EQ(seen->first_map->info.width, expected.info.width);
+  EXPECT_EQ(seen->first_map->info.height, expected.info.height);
+  EXPECT_EQ(seen->first_map->data, expected.data);
+}
+
+// Over the scans the map was made from, ~pose follows the truth (brought into the map frame: the
+// log's first pose is its origin); the anomaly layer has the stored map's size.
+TEST(SlamLocalization, FollowsTheTruthOnTheMap) {
+  std::vector<StampedPose> truth;
+  std::string error;
+  ASSERT_TRUE(io::readGroundTruth(param("ground_truth"), &truth, &error)) << error;
+  int mapped = 0;
+  ros::param::get("~mapped_scans", mapped);
+  ASSERT_GT(mapped, 10);
+  ASSERT_GE(truth.size(), static_cast<size_t>(mapped));
+  const double last = truth[mapped - 1].stamp;
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [&] { return !seen->poses.empty() && seen->poses.rbegin()->first >= last; },
+      150.0))
+      << "no pose for the " << mapped << "th scan";
+  const Pose2 origin_inverse = truth.front().pose.inverse();
+  std::lock_guard<std::mutex> lock(seen->mutex);
+  int compared = 0;
+  double worst = 0.0, sum_squares = 0.0;
+  for (int i = 0; i < mapped; ++i) {
+    // ~pose stamps are the scans' (the player's ROS time: the log's seconds, to rounding).
+    const auto near = seen->poses.lower_bound(truth[i].stamp - 0.02);
+    if (near == seen->poses.end() || near->first > truth[i].stamp + 0.02) continue;
+    const Pose2 expected = origin_inverse.compose(truth[i].pose);
+    const double d = std::hypot(near->second.x - expected.x, near->second.y - expected.y);
+    worst = std::max(worst, d);
+    sum_squares += d * d;
+    ++compared;
+  }
+  EXPECT_GE(compared, mapped * 9 / 10);
+  const double rmse = std::sqrt(sum_squares / std::max(1, compared));
+  // The map's own error against the truth is part of these.
+  EXPECT_LT(rmse, 0.08);
+  EXPECT_LT(worst, 0.15);
+  std::printf("position error against the truth: RMSE %.4f m, worst %.4f m over %d scans\n", rmse,
+              worst, compared);
+  RecordProperty("rmse_position_error_m", std::to_string(rmse));
+  RecordProperty("worst_position_error_m", std::to_string(worst));
+  // The scans leave the map as it was (mapping would have changed it by now).
+  EXPECT_GT(seen->maps, 1);
+  EXPECT_EQ(seen->last_map->data, seen->first_map->data);
+  ASSERT_TRUE(seen->anomaly != nullptr) << "no ~layers/anomaly";
+  EXPECT_EQ(seen->anomaly->info.width, seen->first_map->info.width);
+  EXPECT_EQ(seen->anomaly->info.height, seen->first_map->info.height);
+}
+
+// /initialpose (after the log) puts the cloud at the given pose with about its covariance.
+TEST(SlamLocalization, InitialPoseMovesTheCloud) {
+  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, [] { return seen->done; }, 150.0));
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("/initialpose", 1);
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [&] { return pub.getNumSubscribers() > 0; }, 10.0));
+  geometry_msgs::PoseWithCovarianceStamped msg;
+  msg.header.frame_id = "map";
+  msg.pose.pose = ros_adapter::toPoseMsg(Pose2(1.0, 0.5, 0.3));
+  msg.pose.covariance[0] = 0.01;
+  msg.pose.covariance[7] = 0.01;
+  msg.pose.covariance[35] = 0.005;
+  pub.publish(msg);
+  auto near = [] {
+    if (!seen->last_pose) return false;
+    const Pose2 p = ros_adapter::pose2FromPoseMsg(seen->last_pose->pose.pose);
+    return std::hypot(p.x - 1.0, p.y - 0.5) < 0.05;
+  };
+  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, near, 10.0)) << "~pose did not move";
+  std::lock_guard<std::mutex> lock(seen->mutex);
+  const auto& cov = seen->last_pose->pose.covariance;
+  EXPECT_GT(cov[0], 0.002);
+  EXPECT_LT(cov[0], 0.03);
+  EXPECT_NEAR(ros_adapter::pose2FromPoseMsg(seen->last_pose->pose.pose).theta, 0.3, 0.05);
+}
+
+// ~global_localization spreads max_particles (1000 in the launch file) over the map.
+TEST(SlamLocalization, GlobalLocalizationSpreadsTheCloud) {
+  std_srvs::Empty srv;
+  ASSERT_TRUE(ros::service::call("/evidential_slam/global_localization", srv));
+  auto spread = [] {
+    if (!seen->particles || seen->particles->poses.size() != 1000u) return false;
+    double sx = 0.0, sxx = 0.0;
+    for (const auto& p : seen->particles->poses) {
+      sx += p.position.x;
+      sxx += p.position.x * p.position.x;
+    }
+    const double n = static_cast<double>(seen->particles->poses.size());
+    return sxx / n - (sx / n) * (sx / n) > 1.0;  // variance in x above 1 m²
+  };
+  EXPECT_TRUE(testing_ros::waitUntil(seen->mutex, spread, 10.0));
+}
+
+}  // namespace
+}  // namespace evidential_slam
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "slam_localization_test");
+  ros::NodeHandle nh;
+  evidential_slam::Seen seen;
+  evidential_slam::seen = &seen;
+  auto map = nh.subscribe<nav_msgs::OccupancyGrid>(
+      "/map", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(seen.mutex);
+        if (!seen.first_map) seen.first_map = m;
+        seen.last_map = m;
+        ++seen.maps;
+      });
+  auto anomaly = nh.subscribe<nav_msgs::OccupancyGrid>(
+      "/evidential_slam/layers/anomaly", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(seen.mutex);
+        seen.anomaly = m;
+      });
+  auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
+    std::lock_guard<std::mutex> lock(seen.mutex);
+    seen.done = m->data;
+  });
+  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+      "/evidential_slam/pose", 100,
+      [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(seen.mutex);
+        seen.poses[m->header.stamp.toSec()] = evidential_slam::ros_adapter::pose2FromPoseMsg(
+            m->pose.pose);
+        seen.last_pose = m;
+      });
+  auto particles = nh.subscribe<geometry_msgs::PoseArray>(
+      "/evidential_slam/particles", 2, [&](const geometry_msgs::PoseArray::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(seen.mutex);
+        seen.particles = m;
+      });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
