@@ -33,11 +33,14 @@ SLAM_GROUPS = [
     ("LONG_STEP", "long_step", "After a long odometry step"),
     ("CONFLICT_ALARM", "conflict_alarm", "Conflict alarm"),
     ("SESSION", "session", "Scan order and saved maps"),
+    ("LOCALIZATION", "localization", "Localization mode"),
     ("NODE", "node", "ROS node only"),
 ]
 # What a user sets on a robot: the README's table.
 TUNING_KEYS = ("MOTION_MODEL", "SCAN_MATCHER", "LONG_STEP", "CONFLICT_ALARM")
-GROUPS = [g for g in SLAM_GROUPS if g[0] not in TUNING_KEYS]
+# Localization on a saved map, documented in docs/localization.md.
+LOCALIZATION_KEYS = ("LOCALIZATION",)
+GROUPS = [g for g in SLAM_GROUPS if g[0] not in TUNING_KEYS + LOCALIZATION_KEYS]
 # The filter's finer settings, documented in docs/parameters.md.
 TUNING_GROUPS = [g for g in SLAM_GROUPS if g[0] in TUNING_KEYS]
 # The map fusion node, documented in docs/fusion.md.
@@ -51,7 +54,9 @@ EXPLORER_GROUPS = [
     ("EXPLORER_PURSUIT", "pursuit", "Pure pursuit"),
     ("EXPLORER_NODE", "explorer_node", "Explorer node only"),
 ]
+LOCALIZATION_GROUPS = [g for g in SLAM_GROUPS if g[0] in LOCALIZATION_KEYS]
 BLOCKS = {"parameters": GROUPS, "tuning-parameters": TUNING_GROUPS,
+          "localization-parameters": LOCALIZATION_GROUPS,
           "fusion-parameters": FUSION_GROUPS, "explorer-parameters": EXPLORER_GROUPS}
 FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
 

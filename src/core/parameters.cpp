@@ -27,7 +27,8 @@ bool SessionConfig::isValid(std::string* why) const {
 }
 
 bool Parameters::isValid(std::string* why) const {
-  return slam.isValid(why) && conflict_alarm.isValid(why) && session.isValid(why);
+  return slam.isValid(why) && conflict_alarm.isValid(why) && session.isValid(why) &&
+         localization.isValid(why);
 }
 
 std::vector<ParameterSpec> sharedParameterSpecs() {

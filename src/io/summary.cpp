@@ -11,6 +11,7 @@ namespace io {
 bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string* error,
                       AtomicFiles* files) {
   nlohmann::ordered_json j;
+  j["mode"] = s.mode;
   j["rawlog"] = s.rawlog;
   j["rawlog_format"] = s.rawlog_format;
   j["first_scan"] = s.first_scan;
@@ -91,6 +92,23 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
     o["z_layers"] = s.octomap->z_layers;
     o["voxels"] = s.octomap->voxels;
     j["octomap"] = o;
+  }
+  if (s.localization) {
+    const LocalizationSummary& l = *s.localization;
+    nlohmann::ordered_json o;
+    o["global"] = l.global;
+    o["updates"] = l.updates;
+    o["resamplings"] = l.resamplings;
+    o["particles_min"] = l.particles_min;
+    o["particles_mean"] = l.particles_mean;
+    o["particles_max"] = l.particles_max;
+    o["cpu_time_s"] = l.cpu_time_s;
+    o["log_duration_s"] = l.log_duration_s;
+    o["real_time_factor"] = l.real_time_factor;
+    o["real_time_factor_cpu"] = l.real_time_factor_cpu;
+    o["anomaly_bits"] = l.anomaly_bits;
+    o["anomaly_cells"] = l.anomaly_cells;
+    j["localization"] = o;
   }
 
   // Invalid UTF-8 in a path or message is replaced rather than thrown.

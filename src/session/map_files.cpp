@@ -52,8 +52,27 @@ bool writeConflictCsv(const std::string& path, const std::vector<ConflictRecord>
 }  // namespace
 
 MapSave captureMapSave(const MappingSession& session) {
-  const SlamEngine& engine = session.engine();
   MapSave save;
+  for (const auto& [name, value] : parameterValues(session.parameters())) {
+    save.info.parameters[name] = value;
+  }
+  if (session.localizing()) {
+    const Localizer& localizer = session.localizer();
+    save.map = localizer.map();
+    save.anomaly = localizer.anomaly();
+    save.trajectory = localizer.trajectory();
+    save.info.robot_pose = localizer.estimate().mean;
+    save.info.metadata["mode"] = "localization";
+    save.info.metadata["scans_received"] = std::to_string(localizer.stats().scans_received);
+    save.info.metadata["scans_processed"] = std::to_string(localizer.stats().scans_processed);
+    if (!save.trajectory.empty()) {
+      char stamp[40];
+      std::snprintf(stamp, sizeof(stamp), "%.6f", save.trajectory.back().stamp);
+      save.info.metadata["stamp"] = stamp;
+    }
+    return save;
+  }
+  const SlamEngine& engine = session.engine();
   save.map = engine.bestMap();
   save.anomaly = engine.bestAnomaly();
   save.trajectory = engine.bestTrajectory();
@@ -61,9 +80,6 @@ MapSave captureMapSave(const MappingSession& session) {
   save.info.robot_pose = engine.bestPose();
   save.info.has_odometry_pose = engine.stats().scans_received > 0;
   save.info.odometry_pose = engine.lastOdometry();
-  for (const auto& [name, value] : parameterValues(session.parameters())) {
-    save.info.parameters[name] = value;
-  }
   save.info.metadata["scans_received"] = std::to_string(engine.stats().scans_received);
   save.info.metadata["scans_processed"] = std::to_string(engine.stats().scans_processed);
   if (!save.trajectory.empty()) {

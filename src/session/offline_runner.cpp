@@ -40,6 +40,13 @@ void releaseFreeHeapMemory() {
 // Rejected scans are reported one by one only this often; the rest are counted.
 constexpr uint64_t kRejectionsShown = 3;
 
+// One row of localization.csv: the estimate after an update.
+struct LocalizationRow {
+  double stamp;
+  PoseEstimate estimate;
+  LocalizationUpdate update;
+};
+
 class Run {
  public:
   Run(const OfflineOptions& o, std::FILE* out, std::FILE* err, bool tty)
@@ -62,6 +69,8 @@ class Run {
   // Starts `session` on the loaded map (or an empty one) at --initial-pose or the saved pose.
   bool startSession(MappingSession* session, const LoadedMap& loaded, const std::string& source,
                     std::string* why);
+  // --localize-only: starts `session`'s Localizer on the loaded map.
+  bool startLocalization(MappingSession* session, const LoadedMap& loaded, std::string* why);
 
   const OfflineOptions& opt_;
   std::FILE* out_;
@@ -73,7 +82,63 @@ class Run {
   std::vector<StampedPose> odometry_path_;
   fs::path out_dir_;
   AtomicFiles outputs_;  // every output file, staged until the run has written them all
+  std::vector<LocalizationRow> localization_rows_;
 };
+
+bool Run::startLocalization(MappingSession* session, const LoadedMap& loaded, std::string* why) {
+  LocalizationStart start;
+  start.global = opt_.global_localization;
+  start.pose = opt_.initial_pose;
+  const LocalizationConfig& c = opt_.params.localization;
+  start.covariance.diagonal() << c.initial_cov_xx, c.initial_cov_yy, c.initial_cov_aa;
+  if (opt_.has_initial_covariance) {
+    start.covariance.diagonal() << opt_.initial_covariance[0], opt_.initial_covariance[1],
+        opt_.initial_covariance[2];
+  }
+  if (!session->startLocalization(loaded.map, start, why)) {
+    *why = loaded.path + ": " + *why;
+    return false;
+  }
+  StartSummary summary;
+  summary.map_file = loaded.path;
+  summary.map_tiles = loaded.map.allocatedTiles();
+  summary.x = start.pose.x;
+  summary.y = start.pose.y;
+  summary.theta = start.pose.theta;
+  summary.pose_from = start.global ? "--global"
+                      : opt_.has_initial_pose ? "--initial-pose"
+                                              : "default (0, 0, 0)";
+  summary_.start = summary;
+  return true;
+}
+
+// Writes localization.csv: per update, the estimate with its covariance and the particles.
+bool writeLocalizationCsv(const std::string& path, const std::vector<LocalizationRow>& rows,
+                          AtomicFiles* files, std::string* error) {
+  return files->add(
+      path,
+      [&](std::ostream& f) {
+        f << "# per localization update: stamp (s), the estimate (m, m, rad; map frame) and its "
+             "covariance (m^2, m*rad, rad^2), the particles after the update, resampled (1 = "
+             "yes), the mean log plausibility per weighed beam, the anomaly the scan added "
+             "(bits)\n"
+          << "stamp,x,y,theta,cov_xx,cov_xy,cov_xa,cov_yy,cov_ya,cov_aa,particles,resampled,"
+             "mean_log_plausibility,anomaly_added_bits\n";
+        char line[400];
+        for (const LocalizationRow& r : rows) {
+          const Pose2& m = r.estimate.mean;
+          const Eigen::Matrix3d& c = r.estimate.covariance;
+          std::snprintf(line, sizeof(line),
+                        "%.6f,%.6f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%zu,%d,%.6g,%.6g\n",
+                        r.stamp, m.x, m.y, m.theta, c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2),
+                        c(2, 2), r.update.particles, r.update.resampled ? 1 : 0,
+                        r.update.mean_log_plausibility, r.update.anomaly_added_bits);
+          f << line;
+        }
+        return static_cast<bool>(f);
+      },
+      error);
+}
 
 bool Run::startSession(MappingSession* session, const LoadedMap& loaded, const std::string& source,
                        std::string* why) {
@@ -120,6 +185,7 @@ int Run::execute() {
   std::string why;
   if (!opt_.params.isValid(&why)) return fail(kExitUsage, "invalid parameters: " + why);
 
+  summary_.mode = opt_.localize_only ? "localization" : "slam";
   summary_.rawlog = opt_.rawlog;
   summary_.ground_truth = opt_.ground_truth;
   summary_.config_files = opt_.config_files;
@@ -194,7 +260,9 @@ int Run::execute() {
   auto session = std::make_unique<MappingSession>(opt_.params);
   session->setResetSaveRoot(out_dir_.string());
   const std::string source = fs::weakly_canonical(fs::path(opt_.rawlog), ec).string();
-  if (!opt_.load_map.empty() || opt_.has_initial_pose) {
+  if (opt_.localize_only) {
+    if (!startLocalization(session.get(), loaded, &why)) return fail(kExitBadInput, why);
+  } else if (!opt_.load_map.empty() || opt_.has_initial_pose) {
     if (!startSession(session.get(), loaded, source, &why)) return fail(kExitBadInput, why);
   }
   RawlogScan item;
@@ -206,6 +274,8 @@ int Run::execute() {
   }
   summary_.first_scan = skipped;
   uint64_t given = 0;
+  uint64_t rejected = 0;
+  double first_stamp = 0.0, last_stamp = 0.0;
   double slam_s = 0.0;
   bool stopped_early = false;
   while (skipped == opt_.first_scan &&
@@ -217,19 +287,25 @@ int Run::execute() {
     const auto s0 = std::chrono::steady_clock::now();
     const SessionScanResult result = session->processScan(item.odometry, item.scan);
     slam_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+    if (given == 0) first_stamp = item.scan.stamp;
+    last_stamp = item.scan.stamp;
     ++given;
     odometry_path_.push_back({item.scan.stamp, item.odometry});
     if (!result.message.empty()) warn(result.message);
     if (result.update.processed && result.alarm.rising) {
       summary_.conflict_alarm_stamps.push_back(item.scan.stamp);
     }
-    if (result.update.rejected) {
-      const uint64_t rejected = session->engine().stats().scans_rejected;
+    if (result.localization.processed) {
+      localization_rows_.push_back(
+          {item.scan.stamp, session->localizer().estimate(), result.localization});
+    }
+    if (result.rejected()) {
+      ++rejected;
       if (rejected <= kRejectionsShown) {
         char stamp[32];
         std::snprintf(stamp, sizeof(stamp), "%.6f", item.scan.stamp);
         warn("scan " + std::to_string(given) + " (t = " + stamp +
-                 " s) rejected: " + result.update.why,
+                 " s) rejected: " + result.rejectionReason(),
              false);
         if (rejected == kRejectionsShown) {
           warn("further rejected scans are only counted (summary.json: scans_rejected)", false);
@@ -250,9 +326,10 @@ int Run::execute() {
   if (given == 0) return fail(kExitBadInput, "no scan could be read from '" + opt_.rawlog + "'");
 
   const SlamStats stats = session->engine().stats();
-  if (stats.scans_rejected > 0) {
-    warn(std::to_string(stats.scans_rejected) + " of " + std::to_string(given) +
-         " scans were rejected by the SLAM core");
+  if (!opt_.localize_only) rejected = stats.scans_rejected;
+  if (rejected > 0) {
+    warn(std::to_string(rejected) + " of " + std::to_string(given) + " scans were rejected by " +
+         (opt_.localize_only ? "the localizer" : "the SLAM core"));
   }
   if (stopped_early) {
     summary_.warnings.push_back("stopped after --max-scans " + std::to_string(opt_.max_scans));
@@ -261,7 +338,7 @@ int Run::execute() {
   summary_.parameter_values = parameterValues(session->parameters());
   summary_.scans_total = given;
   summary_.scans_processed = stats.scans_processed;
-  summary_.scans_rejected = stats.scans_rejected;
+  summary_.scans_rejected = rejected;
   summary_.scans_without_odometry = reader.counts().scans_without_odometry;
   summary_.scans_dropped = session->scansDropped();
   summary_.rays_total = stats.rays_total;
@@ -271,6 +348,29 @@ int Run::execute() {
   summary_.long_steps = stats.long_steps;
   summary_.group_updates = stats.group_updates;
   summary_.slam_time_s = slam_s;
+  if (opt_.localize_only) {
+    const Localizer& localizer = session->localizer();
+    const LocalizerStats& l = localizer.stats();
+    LocalizationSummary loc;
+    loc.global = opt_.global_localization;
+    loc.updates = l.scans_processed;
+    loc.resamplings = l.resamplings;
+    loc.particles_min = l.min_particles_used;
+    loc.particles_max = l.max_particles_used;
+    loc.particles_mean =
+        l.scans_processed > 0 ? static_cast<double>(l.particle_updates) / l.scans_processed : 0.0;
+    loc.cpu_time_s = slam_cpu_s;
+    loc.log_duration_s = last_stamp - first_stamp;
+    loc.real_time_factor = slam_s > 0.0 ? loc.log_duration_s / slam_s : 0.0;
+    loc.real_time_factor_cpu = slam_cpu_s > 0.0 ? loc.log_duration_s / slam_cpu_s : 0.0;
+    loc.anomaly_bits = localizer.anomaly().total();
+    loc.anomaly_cells = localizer.anomaly().size();
+    summary_.localization = loc;
+    summary_.scans_processed = l.scans_processed;
+    summary_.resamplings = l.resamplings;
+    summary_.particles = static_cast<int>(l.max_particles_used);
+    summary_.resolution = localizer.map().resolution();
+  }
   if (stats.rays_bad > 0) {
     warn(std::to_string(stats.rays_bad) +
          " rays with NaN, infinite or negative ranges were skipped");
@@ -308,6 +408,13 @@ int Run::execute() {
                                      files.map_file_stats.file_bytes, files.map_file_stats.tiles};
   for (const std::string& f : files.files) {
     summary_.outputs.push_back(fs::path(f).lexically_relative(out_dir_).string());
+  }
+  if (opt_.localize_only) {
+    const std::string csv = (out_dir_ / "localization.csv").string();
+    if (!writeLocalizationCsv(csv, localization_rows_, &outputs_, &why)) {
+      return fail(kExitBadInput, why);
+    }
+    summary_.outputs.push_back("localization.csv");
   }
   summary_.external_conflict_scale = files.external_conflict_scale;
   summary_.map_width = files.map_width;
@@ -373,6 +480,17 @@ int Run::execute() {
                static_cast<double>(files.map_file_stats.file_bytes) / 1e6,
                static_cast<unsigned long long>(files.map_file_stats.tiles));
   std::fprintf(out_, "trajectory: %s\n", (out_dir_ / "trajectory.tum").string().c_str());
+  if (summary_.localization) {
+    const LocalizationSummary& l = *summary_.localization;
+    std::fprintf(out_,
+                 "localized:  %llu updates, particles %llu-%llu (mean %.0f), %.0fx real time "
+                 "(%.0fx per CPU second); %s\n",
+                 static_cast<unsigned long long>(l.updates),
+                 static_cast<unsigned long long>(l.particles_min),
+                 static_cast<unsigned long long>(l.particles_max), l.particles_mean,
+                 l.real_time_factor, l.real_time_factor_cpu,
+                 (out_dir_ / "localization.csv").string().c_str());
+  }
   std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, PGM, map.yaml)\n",
                (out_dir_ / "layers").string().c_str(), summary_.map_width, summary_.map_height);
   if (summary_.octomap) {
@@ -413,6 +531,7 @@ std::string offlineUsage(const std::string& program) {
          "       [--preset NAME] [--param NAME=VALUE]... [--particles K] [--seed N]\n"
          "       [--resolution M] [--threads N] [--first-scan N] [--max-scans N]\n"
          "       [--load-map DIR|FILE] [--initial-pose X,Y,YAW] [--laser-label L] [--quiet]\n"
+         "       [--localize-only [--initial-cov XX,YY,AA | --global]]\n"
          "       [--profile] [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
          "\n"
          "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
@@ -438,6 +557,15 @@ std::string offlineUsage(const std::string& program) {
          "                        directory holding it (another run's --out, a node's save_map)\n"
          "  --initial-pose X,Y,YAW  the first scan's pose in the map frame (m, m, rad); default\n"
          "                        with --load-map: the pose saved in the map file\n"
+         "  --localize-only       localize on the --load-map map instead of mapping: the map\n"
+         "                        is not changed; writes DIR/localization.csv (the estimate\n"
+         "                        and its covariance per update) and layers/anomaly.* (what\n"
+         "                        contradicts the map); --initial-pose defaults to 0,0,0\n"
+         "  --initial-cov XX,YY,AA  with --localize-only: the variances (m^2, m^2, rad^2) of\n"
+         "                        the particles drawn around --initial-pose (default: the\n"
+         "                        initial_cov_* parameters)\n"
+         "  --global              with --localize-only: spread the particles over the map's\n"
+         "                        free space instead (global localization)\n"
          "  --laser-label L       use only scans with this sensor label\n"
          "  --quiet               no progress line and no warnings on stderr\n"
          "  --profile             time the filter's update by section and measure its compute\n"
@@ -453,9 +581,8 @@ std::string offlineUsage(const std::string& program) {
 
 namespace {
 
-// "x,y,yaw": three finite numbers.
-bool parsePose(const std::string& text, Pose2* pose) {
-  double v[3];
+// "a,b,c": three finite numbers.
+bool parseTriple(const std::string& text, double v[3]) {
   size_t start = 0;
   for (int i = 0; i < 3; ++i) {
     const size_t comma = i < 2 ? text.find(',', start) : text.size();
@@ -465,6 +592,12 @@ bool parsePose(const std::string& text, Pose2* pose) {
     }
     start = comma + 1;
   }
+  return true;
+}
+
+bool parsePose(const std::string& text, Pose2* pose) {
+  double v[3];
+  if (!parseTriple(text, v)) return false;
   *pose = Pose2(v[0], v[1], v[2]);
   return true;
 }
@@ -485,7 +618,8 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       {"--octomap-z-min", "octomap_z_min"}, {"--octomap-z-max", "octomap_z_max"}};
   static const char* const kValued[] = {
       "--rawlog",    "--out",         "--ground-truth", "--config",     "--preset",     "--param",
-      "--max-scans", "--laser-label", "--first-scan",   "--load-map",   "--initial-pose"};
+      "--max-scans", "--laser-label", "--first-scan",   "--load-map",   "--initial-pose",
+      "--initial-cov"};
   for (size_t i = 0; i < args.size(); ++i) {
     const CommandLineArg arg = splitArg(args[i]);
     const std::string& flag = arg.flag;
@@ -494,9 +628,14 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
       *help = true;
       return true;
     }
-    if (flag == "--quiet" || flag == "-q" || flag == "--export-octomap" || flag == "--profile") {
+    if (flag == "--quiet" || flag == "-q" || flag == "--export-octomap" || flag == "--profile" ||
+        flag == "--localize-only" || flag == "--global") {
       if (arg.has_value) return bad(flag + " takes no value");
-      if (flag == "--export-octomap") {
+      if (flag == "--localize-only") {
+        o->localize_only = true;
+      } else if (flag == "--global") {
+        o->global_localization = true;
+      } else if (flag == "--export-octomap") {
         o->parameters.emplace_back("export_octomap", "true");
       } else if (flag == "--profile") {
         o->profile = true;
@@ -549,6 +688,12 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
         return bad("--initial-pose wants X,Y,YAW (three finite numbers: m, m, rad)");
       }
       o->has_initial_pose = true;
+    } else if (flag == "--initial-cov") {
+      double* v = o->initial_covariance;
+      if (!parseTriple(value, v) || v[0] < 0.0 || v[1] < 0.0 || v[2] < 0.0) {
+        return bad("--initial-cov wants XX,YY,AA (three variances >= 0: m^2, m^2, rad^2)");
+      }
+      o->has_initial_covariance = true;
     } else if (flag == "--param") {
       const size_t eq = value.find('=');
       if (eq == std::string::npos || eq == 0) return bad("--param wants NAME=VALUE");
@@ -573,6 +718,17 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
   }
   if (o->rawlog.empty()) return bad("--rawlog is required");
   if (o->out_dir.empty()) return bad("--out is required");
+  if (o->localize_only && o->load_map.empty()) {
+    return bad("--localize-only needs --load-map (the map to localize on)");
+  }
+  if (!o->localize_only && (o->global_localization || o->has_initial_covariance)) {
+    return bad(std::string(o->global_localization ? "--global" : "--initial-cov") +
+               " needs --localize-only");
+  }
+  if (o->global_localization && (o->has_initial_pose || o->has_initial_covariance)) {
+    return bad("--global spreads the particles over the map: not with --initial-pose or "
+               "--initial-cov");
+  }
   std::string why;
   if (!o->params.isValid(&why)) return bad("invalid parameters: " + why);
   return true;

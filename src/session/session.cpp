@@ -94,6 +94,10 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
     have_origin_ = true;
     origin_ = odometry;
   }
+  if (localizer_ != nullptr) {
+    result.localization = localizer_->processScan(odometry, scan);
+    return result;
+  }
   result.update = engine_->processScan(odometry, scan);
   if (result.update.processed && !engine_->mappingPaused()) {
     result.alarm = alarm_.update(result.update.open_space_conflict_added);
@@ -120,6 +124,12 @@ std::string MappingSession::saveBeforeReset() {
 }
 
 void MappingSession::restart(const std::string& reason, std::string* message) {
+  if (localizer_ != nullptr) {
+    reset();
+    ++restarts_;
+    if (message != nullptr) *message = reason + ": localization starts over where it started";
+    return;
+  }
   const std::string saved = saveBeforeReset();
   reset();
   ++restarts_;
@@ -128,15 +138,18 @@ void MappingSession::restart(const std::string& reason, std::string* message) {
 
 bool MappingSession::reconfigure(const Parameters& params, std::string* why) {
   Parameters next = params;
+  // Both engines refuse only invalid parameters, which isValid has checked.
   if (!next.isValid(why) || !engine_->reconfigure(next.slam, why)) return false;
   next.slam = engine_->config();  // the start-up parameters keep their values
+  if (localizer_ != nullptr && !localizer_->reconfigure(next.localization, next.slam, why)) {
+    return false;
+  }
   params_ = next;
   alarm_.setConfig(params_.conflict_alarm);
   return true;
 }
 
-void MappingSession::reset() {
-  engine_->reset();
+void MappingSession::forgetScanOrder() {
   alarm_.reset();
   conflict_log_.clear();
   have_last_stamp_ = false;
@@ -144,9 +157,47 @@ void MappingSession::reset() {
   have_origin_ = false;
 }
 
+void MappingSession::reset() {
+  engine_->reset();
+  if (localizer_ != nullptr) {
+    std::string why;
+    // The start was accepted on this map before: it is again.
+    startLocalizer(localizer_.get(), localization_start_, &why);
+  }
+  forgetScanOrder();
+}
+
 void MappingSession::startOver() {
+  localizer_.reset();
   engine_->clearStartMap();
   reset();
+}
+
+bool MappingSession::startLocalizer(Localizer* localizer, const LocalizationStart& start,
+                                    std::string* why) {
+  return start.global ? localizer->globalLocalization(why)
+                      : localizer->resetAt(start.pose, start.covariance, why);
+}
+
+bool MappingSession::startLocalization(const EvidentialGridMap& map, const LocalizationStart& start,
+                                       std::string* why) {
+  auto localizer = std::make_unique<Localizer>(params_.localization, engine_->config());
+  if (!localizer->setMap(map, why) || !startLocalizer(localizer.get(), start, why)) return false;
+  localizer_ = std::move(localizer);
+  localization_start_ = start;
+  engine_->reset();
+  forgetScanOrder();
+  return true;
+}
+
+bool MappingSession::restartLocalization(const LocalizationStart& start, std::string* why) {
+  if (localizer_ == nullptr) {
+    if (why != nullptr) *why = "not in localization mode";
+    return false;
+  }
+  if (!startLocalizer(localizer_.get(), start, why)) return false;
+  localization_start_ = start;
+  return true;
 }
 
 bool MappingSession::startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
@@ -166,11 +217,8 @@ bool MappingSession::startFromMap(const EvidentialGridMap& map, const Pose2& pos
     engine_ = std::move(engine);
     params_.slam.resolution = resolution;
   }
-  alarm_.reset();
-  conflict_log_.clear();
-  have_last_stamp_ = false;
-  jumps_in_a_row_ = 0;
-  have_origin_ = false;
+  localizer_.reset();
+  forgetScanOrder();
   return true;
 }
 

@@ -76,6 +76,31 @@ TEST(OfflineArgs, ParsesEveryOption) {
   EXPECT_DOUBLE_EQ(o.initial_pose.theta, 0.25);
 }
 
+TEST(OfflineArgs, LocalizeOnlyOptions) {
+  OfflineOptions o;
+  std::string error;
+  ASSERT_TRUE(parse({"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m",
+                     "--initial-pose", "1,2,0.5", "--initial-cov=0.5,0.25,0.1", "--param",
+                     "max_particles=800"},
+                    &o, &error))
+      << error;
+  EXPECT_TRUE(o.localize_only);
+  EXPECT_FALSE(o.global_localization);
+  EXPECT_TRUE(o.has_initial_covariance);
+  EXPECT_DOUBLE_EQ(o.initial_covariance[0], 0.5);
+  EXPECT_DOUBLE_EQ(o.initial_covariance[1], 0.25);
+  EXPECT_DOUBLE_EQ(o.initial_covariance[2], 0.1);
+  EXPECT_EQ(o.params.localization.max_particles, 800);
+  OfflineOptions g;
+  ASSERT_TRUE(parse({"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m",
+                     "--global"},
+                    &g, &error))
+      << error;
+  EXPECT_TRUE(g.global_localization);
+  EXPECT_FALSE(g.has_initial_pose);
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+}
+
 TEST(OfflineArgs, DefaultsAreTheCoreDefaults) {
   OfflineOptions o;
   std::string error;
@@ -212,6 +237,17 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
       {"--rawlog", "a", "--out", "b", "--initial-pose", "1,2,3,4"},
       {"--rawlog", "a", "--out", "b", "--initial-pose", "1,nan,0"},
       {"--rawlog", "a", "--out", "b", "--initial-pose", "1, 2, 0"},
+      {"--rawlog", "a", "--out", "b", "--localize-only"},  // no --load-map
+      {"--rawlog", "a", "--out", "b", "--localize-only=1", "--load-map", "m"},
+      {"--rawlog", "a", "--out", "b", "--load-map", "m", "--global"},  // not --localize-only
+      {"--rawlog", "a", "--out", "b", "--load-map", "m", "--initial-cov", "1,1,1"},
+      {"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--global",
+       "--initial-pose", "1,2,0"},
+      {"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--initial-cov", "1,1"},
+      {"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--initial-cov",
+       "1,-1,1"},
+      {"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--param",
+       "max_particles=50"},  // below min_particles
   };
   for (const auto& args : bad) {
     OfflineOptions o;

@@ -557,6 +557,119 @@ TEST_F(OfflineE2E, BadMapsAndSlices) {
   EXPECT_NE(r.err.find("159 usable scans"), std::string::npos) << r.err;
 }
 
+// The position error of `path` against `reference` at the same stamps: RMSE and worst, m.
+std::pair<double, double> positionError(const std::vector<StampedPose>& path,
+                                        const std::vector<StampedPose>& reference) {
+  EXPECT_EQ(path.size(), reference.size());
+  double sum = 0.0, worst = 0.0;
+  const size_t n = std::min(path.size(), reference.size());
+  for (size_t i = 0; i < n; ++i) {
+    EXPECT_NEAR(path[i].stamp, reference[i].stamp, 1e-6);
+    const double d =
+        std::hypot(path[i].pose.x - reference[i].pose.x, path[i].pose.y - reference[i].pose.y);
+    sum += d * d;
+    worst = std::max(worst, d);
+  }
+  return {n > 0 ? std::sqrt(sum / n) : 0.0, worst};
+}
+
+// --localize-only: the fixture mapped, then its observation-only twin localized on that map from
+// the map frame's origin: the pose follows the SLAM's path, every output is written, the map
+// file is the stored map unchanged, and localization.csv holds one row per update.
+TEST_F(OfflineE2E, LocalizesOnAMapOfTheFixture) {
+  const fs::path map = scratch_ / "map", out = scratch_ / "loc";
+  Result r = runOffline(concat({"--rawlog", dataPath("sim.rawlog"), "--out", map.string()}, kFast),
+                        scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runOffline({"--rawlog", dataPath("sim_obs.rawlog"), "--out", out.string(), "--preset",
+                  "sim", "--threads", "2", "--localize-only", "--load-map", map.string(),
+                  "--initial-cov", "0.01,0.01,0.003", "--ground-truth", dataPath("sim.GT.txt")},
+                 scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("localized:"), std::string::npos) << r.out;
+  checkOutputs(out, kFixtureScans);
+  EXPECT_TRUE(fs::is_regular_file(out / "layers" / "anomaly.npy"));
+
+  const auto [rmse, worst] = positionError(trajectoryOf(out), trajectoryOf(map));
+  EXPECT_LT(rmse, 0.05);   // measured 0.033 m
+  EXPECT_LT(worst, 0.12);  // measured 0.081 m
+  const auto j = summaryOf(out);
+  EXPECT_EQ(j["mode"], "localization");
+  EXPECT_LT(j["ate_rmse_m"].get<double>(), 0.1);  // measured 0.021 m
+  EXPECT_EQ(j["start"]["pose_from"], "default (0, 0, 0)");
+  const auto& loc = j["localization"];
+  const uint64_t updates = loc["updates"].get<uint64_t>();
+  EXPECT_GT(updates, 20u);
+  EXPECT_EQ(j["scans_processed"].get<uint64_t>(), updates);
+  EXPECT_GE(loc["particles_min"].get<int>(), 100);  // min_particles
+  EXPECT_LE(loc["particles_max"].get<int>(), 5000);  // max_particles
+  EXPECT_LE(loc["particles_min"].get<double>(), loc["particles_mean"].get<double>());
+  EXPECT_LE(loc["particles_mean"].get<double>(), loc["particles_max"].get<double>());
+  EXPECT_GT(loc["real_time_factor"].get<double>(), 0.0);
+  EXPECT_GT(loc["cpu_time_s"].get<double>(), 0.0);
+  EXPECT_GT(loc["log_duration_s"].get<double>(), 10.0);
+
+  const std::string csv = test::readText(out / "localization.csv");
+  EXPECT_EQ(lineCount(csv), static_cast<int>(updates) + 2);  // a comment and the header
+  EXPECT_NE(csv.find("stamp,x,y,theta,cov_xx,"), std::string::npos);
+
+  EvidentialGridMap stored, written;
+  io::MapFileInfo info;
+  std::string error;
+  ASSERT_TRUE(io::readMapFile((map / "map.evmap").string(), &stored, &info, &error)) << error;
+  ASSERT_TRUE(io::readMapFile((out / "map.evmap").string(), &written, &info, &error)) << error;
+  EXPECT_EQ(info.metadata.at("mode"), "localization");
+  EXPECT_EQ(written.allocatedTiles(), stored.allocatedTiles());
+  const CellBox box = stored.observedBox();
+  size_t differ = 0;
+  for (int y = box.min_y; y <= box.max_y; ++y) {
+    for (int x = box.min_x; x <= box.max_x; ++x) {
+      const Cell& a = stored.cell(x, y);
+      const Cell& b = written.cell(x, y);
+      differ += a.occupiedSteps() != b.occupiedSteps() || a.freeSteps() != b.freeSteps() ||
+                a.lambdaBits() != b.lambdaBits();
+    }
+  }
+  EXPECT_EQ(differ, 0u) << "localization must not change the map";
+}
+
+// --global: the particles start spread over the map's free space (max_particles of them).
+TEST_F(OfflineE2E, GlobalLocalizationStartsSpread) {
+  const fs::path out = scratch_ / "global";
+  const Result r = runOffline(
+      {"--rawlog", dataPath("sim_obs.rawlog"), "--out", out.string(), "--preset", "sim",
+       "--threads", "2", "--localize-only", "--load-map", dataPath("sim_first_half.evmap"),
+       "--global", "--param", "max_particles=300", "--max-scans", "10"},
+      scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = summaryOf(out);
+  EXPECT_EQ(j["start"]["pose_from"], "--global");
+  EXPECT_EQ(j["localization"]["global"], true);
+  EXPECT_EQ(j["localization"]["particles_max"], 300);
+}
+
+// --localize-only without a map, with an unreadable map, with a bad option: one line each.
+TEST_F(OfflineE2E, LocalizeOnlyBadInput) {
+  const std::vector<std::string> base = {"--rawlog", dataPath("sim.rawlog"), "--out",
+                                         (scratch_ / "o").string(), "--localize-only"};
+  Result r = runOffline(base, scratch_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--localize-only needs --load-map"), std::string::npos) << r.err;
+  test::writeText(scratch_ / "bad.evmap", "not a map");
+  r = runOffline(concat(base, {"--load-map", (scratch_ / "bad.evmap").string()}), scratch_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("bad.evmap"), std::string::npos) << r.err;
+  r = runOffline(concat(base, {"--load-map", dataPath("sim_first_half.evmap"), "--initial-cov",
+                               "1,1"}),
+                 scratch_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--initial-cov"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "o" / "summary.json"));
+}
+
 // --profile writes profile.txt with the update's sections, the ns per visited cell and the compute
 // floor, and leaves the results as they are without it (the same trajectory, byte for byte).
 TEST_F(OfflineE2E, ProfileReportsSectionsAndLeavesResultsAlone) {

@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "evidential_slam/session/map_files.h"
 #include "evidential_slam/session/session.h"
 #include "test_support.h"
 #include "test_util.h"
@@ -179,6 +180,78 @@ TEST(MappingSession, HugeRangesAreClippedAtTheUsableRange) {
   EXPECT_LE(std::max(std::abs(box.min_x), std::abs(box.max_x)), reach);
   EXPECT_LE(std::max(std::abs(box.min_y), std::abs(box.max_y)), reach);
   EXPECT_GT(box.width(), reach);  // the rays did clear space out to about usable_range
+}
+
+// Localization mode: scans go to the Localizer on the given map, which no scan changes; the
+// scan checks and the time-jump policy are the session's; a restart starts the particles as they
+// started (nothing to save); startFromMap returns to SLAM mode.
+TEST(MappingSession, LocalizationModeUsesTheLocalizerOnAFixedMap) {
+  Parameters p = smallConfig();
+  p.localization.max_particles = 200;
+  MappingSession mapping(p);
+  mapping.processScan(Pose2(), roomScan(Pose2(), 100.0));
+  const EvidentialGridMap map = mapping.currentMap();
+  ASSERT_FALSE(map.observedBox().empty());
+
+  MappingSession s(p);
+  s.setResetSaveRoot(test::scratchDir().string());
+  LocalizationStart start;
+  start.pose = Pose2(0.08, -0.05, 0.02);
+  start.covariance.diagonal() << 1e-4, 1e-4, 1e-5;
+  std::string why;
+  ASSERT_TRUE(s.startLocalization(map, start, &why)) << why;
+  ASSERT_TRUE(s.localizing());
+  SessionScanResult r = s.processScan(Pose2(), roomScan(Pose2(), 100.0));
+  EXPECT_EQ(r.order, Order::kInOrder);
+  EXPECT_TRUE(r.processed());
+  EXPECT_TRUE(r.localization.processed);
+  EXPECT_FALSE(r.update.processed);
+  EXPECT_EQ(s.engine().stats().scans_received, 0u);
+  // The scan matcher pulls the cloud from the start to the true pose (the origin).
+  const Pose2 estimate = s.localizer().estimate().mean;
+  EXPECT_LT(std::hypot(estimate.x, estimate.y), 0.03) << estimate.x << ", " << estimate.y;
+
+  // The session's checks apply: a scan with a non-finite stamp is refused.
+  r = s.processScan(Pose2(), roomScan(Pose2(), std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_EQ(r.order, Order::kRefused);
+
+  // The saved files hold the stored map, unchanged, and the estimate's path.
+  const MapSave save = captureMapSave(s);
+  EXPECT_EQ(save.info.metadata.at("mode"), "localization");
+  EXPECT_EQ(save.trajectory.size(), 1u);
+  EXPECT_EQ(save.map.allocatedTiles(), map.allocatedTiles());
+  size_t differ = 0;
+  const CellBox box = map.observedBox();
+  for (int y = box.min_y; y <= box.max_y; ++y) {
+    for (int x = box.min_x; x <= box.max_x; ++x) {
+      const Cell& a = map.cell(x, y);
+      const Cell& b = save.map.cell(x, y);
+      differ += a.occupiedSteps() != b.occupiedSteps() || a.freeSteps() != b.freeSteps() ||
+                a.lambdaBits() != b.lambdaBits();
+    }
+  }
+  EXPECT_EQ(differ, 0u);
+
+  // A looping log: three stamps back restart the particles as they started; nothing is saved.
+  s.processScan(Pose2(), roomScan(Pose2(), 50.0));
+  s.processScan(Pose2(), roomScan(Pose2(), 51.0));
+  r = s.processScan(Pose2(), roomScan(Pose2(), 52.0));
+  EXPECT_EQ(r.order, Order::kRestarted);
+  EXPECT_NE(r.message.find("localization starts over"), std::string::npos) << r.message;
+  EXPECT_TRUE(s.lastResetSave().empty());
+  EXPECT_TRUE(s.localizing());
+
+  // Global localization draws max_particles; startFromMap goes back to mapping.
+  LocalizationStart global;
+  global.global = true;
+  ASSERT_TRUE(s.restartLocalization(global, &why)) << why;
+  EXPECT_EQ(s.localizer().particles().size(), 200u);
+  ASSERT_TRUE(s.startFromMap(map, Pose2(), &why)) << why;
+  EXPECT_FALSE(s.localizing());
+  r = s.processScan(Pose2(), roomScan(Pose2(), 200.0));
+  EXPECT_TRUE(r.update.processed);
+  EXPECT_FALSE(s.restartLocalization(global, &why));
+  EXPECT_EQ(why, "not in localization mode");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/conflict_alarm.h"
+#include "evidential_slam/core/localization/localization_config.h"
 
 namespace evidential_slam {
 
@@ -41,12 +42,13 @@ struct SessionConfig {
   bool isValid(std::string* why) const;
 };
 
-// Every parameter the offline runner and the node share: the SLAM's, the conflict alarm's and
-// the session's. The node's own parameters are ros/params.h's.
+// Every parameter the offline runner and the node share: the SLAM's, the conflict alarm's, the
+// session's and localization's. The node's own parameters are ros/params.h's.
 struct Parameters {
   SlamConfig slam;
   ConflictAlarmConfig conflict_alarm;
   SessionConfig session;
+  LocalizationConfig localization;
 
   bool isValid(std::string* why) const;
 };
@@ -56,6 +58,7 @@ void forEachSharedParameter(SharedParameters& p, Visitor&& visit) {
   ES_SLAM_CONFIG_PARAMETERS(ES_VISIT_PARAMETER, p.slam)
   ES_CONFLICT_ALARM_PARAMETERS(ES_VISIT_PARAMETER, p.conflict_alarm)
   ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, p.session)
+  ES_LOCALIZATION_PARAMETERS(ES_VISIT_PARAMETER, p.localization)
 }
 
 // The rows of the shared parameters, in table order.

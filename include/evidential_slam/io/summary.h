@@ -45,7 +45,24 @@ struct MapFileSummary {
   uint64_t tiles = 0;
 };
 
+// A --localize-only run (summary.json: "localization").
+struct LocalizationSummary {
+  bool global = false;   // started from particles spread over the free space
+  uint64_t updates = 0;  // scans that passed the motion gate
+  uint64_t resamplings = 0;
+  uint64_t particles_min = 0;   // after an update, over the updates
+  double particles_mean = 0.0;  // weighed per update
+  uint64_t particles_max = 0;
+  double cpu_time_s = 0.0;            // process CPU (user + system, all threads) while localizing
+  double log_duration_s = 0.0;        // the last scan's stamp minus the first's
+  double real_time_factor = 0.0;      // log_duration_s / the wall time of the localization
+  double real_time_factor_cpu = 0.0;  // log_duration_s / cpu_time_s
+  double anomaly_bits = 0.0;          // Σ of the anomaly layer against the stored map
+  uint64_t anomaly_cells = 0;         // cells with an anomaly
+};
+
 struct RunSummary {
+  std::string mode = "slam";  // "slam" or "localization" (--localize-only)
   std::string rawlog;
   std::string rawlog_format;            // "actions/sensory-frames" or "observations"
   std::string ground_truth;             // empty when none was given
@@ -85,6 +102,7 @@ struct RunSummary {
   std::optional<MapFileSummary> map_file;
   std::vector<std::string> outputs;         // files written, relative to the output directory
   std::optional<MapExportSummary> octomap;  // with --export-octomap
+  std::optional<LocalizationSummary> localization;
   // Conflict alarm (conflict_alarm.h): stamps of the scans that raised a new alarm.
   std::vector<double> conflict_alarm_stamps;
 };

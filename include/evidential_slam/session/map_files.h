@@ -60,7 +60,9 @@ struct MapSave {
 
 // The best particle's map, anomaly, path and pose, the odometry pose with it, the conflict record, every
 // parameter's value (parameterValues) and as metadata the scan counts, the last scan's stamp and
-// whether mapping was paused. Read the session where it does not run (the node's worker thread).
+// whether mapping was paused. In localization mode: the stored map (unchanged), the anomaly
+// against it, the estimate's path and pose, no conflict record, metadata mode = localization.
+// Read the session where it does not run (the node's worker thread).
 MapSave captureMapSave(const MappingSession& session);
 
 // Writes the files above into `dir` (created if missing). They replace the previous files

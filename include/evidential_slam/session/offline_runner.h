@@ -1,6 +1,7 @@
 // The offline runner behind `evidential_slam_offline`: streams a rawlog through a MappingSession
-// (the same scan order, engine and conflict alarm as the ROS node), then writes the map files
-// (writeMapFiles, as ~save_map does) and summary.json. Kept out of main() so the command line
+// (the same scan order, engine and conflict alarm as the ROS node; or, with --localize-only, its
+// Localizer on a saved map), then writes the map files (writeMapFiles, as ~save_map does) and
+// summary.json. Kept out of main() so the command line
 // and the run can be tested without a process.
 #pragma once
 
@@ -43,9 +44,16 @@ struct OfflineOptions {
   std::string load_map;
   bool has_initial_pose = false;  // --initial-pose x,y,yaw (map frame); without --load-map: the
   Pose2 initial_pose;             // first scan's pose on an empty map
-  bool quiet = false;                // no progress line, no per-scan warnings
-  bool profile = false;              // --profile: time the update's sections (profile.h)
-  double ate_max_dt = 0.05;          // s, timestamp association window for the ATE
+  // --localize-only: localize on the --load-map map (never changed) instead of mapping, from
+  // `initial_pose` (default 0,0,0) with `initial_covariance` (default: the initial_cov_*
+  // parameters), or, with --global, from particles spread over the map's free space.
+  bool localize_only = false;
+  bool global_localization = false;
+  bool has_initial_covariance = false;  // --initial-cov XX,YY,AA (variances: m², m², rad²)
+  double initial_covariance[3] = {0.0, 0.0, 0.0};
+  bool quiet = false;        // no progress line, no per-scan warnings
+  bool profile = false;      // --profile: time the update's sections (profile.h)
+  double ate_max_dt = 0.05;  // s, timestamp association window for the ATE
 };
 
 // Usage text for --help and usage errors.

@@ -1,4 +1,5 @@
-// What both front ends do around the SLAM engine, once: the checks on each scan (stamp, size,
+// What both front ends do around the SLAM engine (or, in localization mode, the Localizer on a
+// fixed map), once: the checks on each scan (stamp, size,
 // where the robot is), the order of the scans and the time-jump policy, the conflict alarm and its
 // per-scan record. The offline runner feeds it a rawlog, the ROS node's worker thread feeds it
 // LaserScans; both write its map files with writeMapFiles.
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "evidential_slam/core/conflict_alarm.h"
+#include "evidential_slam/core/localization/localizer.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/slam_engine.h"
 
@@ -41,12 +43,28 @@ struct SessionScanResult {
     kRestarted,  // time jumped back for time_jump_scans scans: the SLAM started over with this one
   };
   Order order = Order::kInOrder;
-  double stamp = 0.0;        // the scan's
-  std::string message;       // one line, for every order but kInOrder
-  ScanUpdate update;         // the engine's answer (kInOrder and kRestarted)
-  ConflictAlarmState alarm;  // when update.processed
+  double stamp = 0.0;               // the scan's
+  std::string message;              // one line, for every order but kInOrder
+  ScanUpdate update;                // the engine's answer (kInOrder and kRestarted; SLAM mode)
+  ConflictAlarmState alarm;         // when update.processed
+  LocalizationUpdate localization;  // the Localizer's answer (localization mode)
 
   bool used() const { return order == Order::kInOrder || order == Order::kRestarted; }
+  // Whichever engine ran: the scan passed its motion gate and updated the particles ...
+  bool processed() const { return update.processed || localization.processed; }
+  // ... or the engine refused it (rejectionReason() says why).
+  bool rejected() const { return update.rejected || localization.rejected; }
+  const std::string& rejectionReason() const {
+    return localization.rejected ? localization.why : update.why;
+  }
+};
+
+// Where localization starts: particles drawn around `pose` with `covariance` (x, y, θ), or, with
+// `global`, spread over the map's free space (Localizer::globalLocalization).
+struct LocalizationStart {
+  bool global = false;
+  Pose2 pose;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 };
 
 class MappingSession {
@@ -76,6 +94,20 @@ class MappingSession {
   // The map a start at a pose the user gives (a node's /initialpose) should use: the best
   // particle's map, or, before the first scan, the map startFromMap gave or an empty one.
   EvidentialGridMap currentMap() const;
+  // Localization mode: from now on scans go to a Localizer on `map` (never written) instead of
+  // the SLAM engine, started as `start` says; reset() and restart() start it so again. The map's
+  // resolution is used. False (and `why`) when the Localizer refuses the map or the start;
+  // nothing changes then. startFromMap() and startOver() return to SLAM mode.
+  bool startLocalization(const EvidentialGridMap& map, const LocalizationStart& start,
+                         std::string* why);
+  // Localization mode only: the particles start again as `start` says (a node's /initialpose,
+  // ~global_localization) on the same map, and later resets start so too. False (and `why`) when
+  // refused; nothing changes then.
+  bool restartLocalization(const LocalizationStart& start, std::string* why);
+  bool localizing() const { return localizer_ != nullptr; }
+  // localizing() only.
+  const Localizer& localizer() const { return *localizer_; }
+
   // Where maps are saved before a restart (a directory, created when needed); empty: not saved.
   void setResetSaveRoot(const std::string& root) { reset_save_root_ = root; }
 
@@ -98,9 +130,16 @@ class MappingSession {
  private:
   // Saves the map before a restart; one line for the message.
   std::string saveBeforeReset();
+  // Starts `localizer` as `start` says.
+  static bool startLocalizer(Localizer* localizer, const LocalizationStart& start,
+                             std::string* why);
+  // Forgets the scans' order and origin (a new start).
+  void forgetScanOrder();
 
   Parameters params_;
   std::unique_ptr<SlamEngine> engine_;
+  std::unique_ptr<Localizer> localizer_;  // localization mode
+  LocalizationStart localization_start_;
   ConflictAlarm alarm_;
   std::vector<ConflictRecord> conflict_log_;
   bool have_last_stamp_ = false;

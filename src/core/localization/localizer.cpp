@@ -11,6 +11,7 @@
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/motion_model.h"
+#include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/scan_matcher.h"
 #include "evidential_slam/core/sensor_model.h"
@@ -34,26 +35,9 @@ constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
 }  // namespace
 
 bool LocalizationConfig::isValid(std::string* why) const {
-  const auto in = [&](const char* name, double v, double lo, double hi) {
-    if (std::isfinite(v) && v >= lo && v <= hi) return true;
-    return refuse(why, std::string(name) + " must be in [" + std::to_string(lo) + ", " +
-                           std::to_string(hi) + "], got " + std::to_string(v));
-  };
-  if (!in("min_particles", min_particles, 1, 1e6) || !in("max_particles", max_particles, 1, 1e6) ||
-      !in("kld_err", kld_err, 1e-4, 1.0) || !in("kld_z", kld_z, 0.0, 10.0) ||
-      !in("kld_bin_xy", kld_bin_xy, 0.01, 10.0) ||
-      !in("kld_bin_angle", kld_bin_angle, 1e-3, M_PI) ||
-      !in("update_min_d", update_min_d, 0.0, 100.0) ||
-      !in("update_min_a", update_min_a, 0.0, M_PI) ||
-      !in("resample_interval", resample_interval, 1, 1000) ||
-      !in("laser_max_beams", laser_max_beams, 1, 1e5) ||
-      !in("recovery_alpha_slow", recovery_alpha_slow, 0.0, 1.0) ||
-      !in("recovery_alpha_fast", recovery_alpha_fast, 0.0, 1.0) ||
-      !in("initial_cov_xx", initial_cov_xx, 0.0, 1e4) ||
-      !in("initial_cov_yy", initial_cov_yy, 0.0, 1e4) ||
-      !in("initial_cov_aa", initial_cov_aa, 0.0, 40.0)) {
-    return false;
-  }
+  bool ok = true;
+  ES_LOCALIZATION_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  if (!ok) return false;
   if (min_particles > max_particles) {
     return refuse(why, "min_particles must not be above max_particles");
   }
