@@ -32,14 +32,6 @@ bool finite(const Pose2& p) {
 // Random streams of the localizer (Rng::forStream's first index), apart from the updates' (the
 // update count).
 constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
-// The cloud has converged when its heaviest cluster holds this much of the weight and its
-// position spread (1 σ) is within the matcher's search radius: the scan is then matched once,
-// from that cluster's prediction, instead of from every particle.
-constexpr double kConvergedWeight = 0.9;
-// A match whose log plausibility per weighed beam is above this explains the scan: the wide-basin
-// search is skipped (the SLAM's threshold, particle_filter.cpp).
-constexpr double kExplainedLogPlausibilityPerBeam = -0.3;
-
 }  // namespace
 
 bool LocalizationConfig::isValid(std::string* why) const {
@@ -99,6 +91,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
 }
 
 void Localizer::restartFilter() {
+  searching_ = false;
   have_odometry_ = false;
   force_update_ = true;
   updates_since_resample_ = 0;
@@ -201,6 +194,7 @@ bool Localizer::globalLocalization(std::string* why) {
   particles_.assign(n, LocalizationParticle{Pose2(), 1.0 / static_cast<double>(n)});
   for (LocalizationParticle& p : particles_) p.pose = randomFreePose(&rng);
   computeEstimate();
+  searching_ = true;
   return true;
 }
 
@@ -261,53 +255,23 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   const double used = static_cast<double>(weighed.ranges.size());
   const double exponent =
       used > 0.0 ? static_cast<double>(hits) / used / slam_.likelihood_temperature : 0.0;
-  const bool match = slam_.matcher.enabled;
   const std::vector<MatchPoint> endpoints =
-      match ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
+      slam_.matcher.enabled ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
 
-  // Converged: one match from the estimate's prediction moves every sample (the SLAM's proposal
-  // for one hypothesis); otherwise each sample is refined on its own.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> spread(
-      estimate_.covariance.topLeftCorner<2, 2>());
-  const bool converged =
-      estimate_weight_ >= kConvergedWeight &&
-      std::sqrt(std::max(0.0, spread.eigenvalues().maxCoeff())) <= slam_.matcher.search_radius;
-  Pose2 correction;
-  const bool correct = !endpoints.empty() && converged;
-  if (correct) {
-    const Pose2 predicted = estimate_.mean.compose(increment);
-    Pose2 chosen = models.matcher.refine(map_, predicted, endpoints);
-    if (slam_.matcher.heading_window > 0.0 && used > 0.0) {
-      const auto plausibility = [&](const Pose2& pose) {
-        return models.beam.logPlausibility(map_, pose.compose(weighed.sensor_pose), weighed, 1);
-      };
-      const double nominal = plausibility(chosen);
-      if (nominal / used <= kExplainedLogPlausibilityPerBeam) {
-        double score = 0.0;
-        const Pose2 wide = models.matcher.refine(
-            map_,
-            models.matcher.search(map_, predicted, endpoints, slam_.matcher.heading_window, &score),
-            endpoints);
-        if (plausibility(wide) > nominal) chosen = wide;
-        ++stats_.wide_matches;
-      }
-    }
-    correction = predicted.between(chosen);
-  }
+  // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples
+  // onto the matcher's optimum and cost accuracy while tracking (docs/decisions.md). Only while a
+  // global localization has not found the pose is each sample matched, so that a cloud as sparse
+  // as max_particles over the whole floor reaches the matcher's basin around the true pose.
+  if (searching_) searching_ = cloudSpread() > slam_.matcher.search_radius;
+  const bool match_each = searching_ && !endpoints.empty();
   const size_t n = particles_.size();
   std::vector<double> log_pl(n, 0.0);
   std::vector<char> on_map(n, 0);
   pool_->run(n, [&](size_t k, int) {
     Rng rng = Rng::forStream(slam_.seed, step, k);
-    const Pose2 predicted = particles_[k].pose.compose(increment);
     Pose2 pose = moved ? sampleMotion(particles_[k].pose, increment, slam_.motion, &rng)
                        : particles_[k].pose;
-    if (correct) {
-      // The sample's deviation from its prediction, applied to the matched prediction.
-      pose = predicted.compose(correction).compose(predicted.between(pose));
-    } else if (!endpoints.empty()) {
-      pose = models.matcher.refine(map_, pose, endpoints);
-    }
+    if (match_each) pose = models.matcher.refine(map_, pose, endpoints);
     particles_[k].pose = pose;
     on_map[k] = onMappedFloor(pose) ? 1 : 0;
     if (used > 0.0) {
@@ -355,6 +319,11 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     resample(&out);
   }
   computeEstimate();
+  // The estimate: the cluster's mean refined by one scan match (the particles are not moved).
+  if (!endpoints.empty() && used > 0.0) {
+    estimate_.mean = models.matcher.refine(map_, estimate_.mean, endpoints);
+    ++stats_.scan_matches;
+  }
   out.particles = particles_.size();
   stats_.max_particles_used = std::max(stats_.max_particles_used, out.particles);
   stats_.min_particles_used = stats_.min_particles_used == 0
@@ -407,6 +376,29 @@ void Localizer::resample(LocalizationUpdate* update) {
   ++stats_.resamplings;
   update->resampled = true;
   update->random_particles = random;
+}
+
+double Localizer::cloudSpread() const {
+  double w = 0.0, x = 0.0, y = 0.0;
+  for (const LocalizationParticle& p : particles_) {
+    w += p.weight;
+    x += p.weight * p.pose.x;
+    y += p.weight * p.pose.y;
+  }
+  if (!(w > 0.0)) return 0.0;
+  x /= w;
+  y /= w;
+  double xx = 0.0, xy = 0.0, yy = 0.0;
+  for (const LocalizationParticle& p : particles_) {
+    xx += p.weight * (p.pose.x - x) * (p.pose.x - x);
+    xy += p.weight * (p.pose.x - x) * (p.pose.y - y);
+    yy += p.weight * (p.pose.y - y) * (p.pose.y - y);
+  }
+  Eigen::Matrix2d cov;
+  cov << xx / w, xy / w, xy / w, yy / w;
+  return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov)
+                                     .eigenvalues()
+                                     .maxCoeff()));
 }
 
 void Localizer::computeEstimate() {
@@ -481,7 +473,6 @@ void Localizer::computeEstimate() {
     c += p.weight * std::cos(p.pose.theta);
   }
   PoseEstimate e;
-  estimate_weight_ = w;
   if (w <= 0.0) {
     estimate_ = e;
     return;

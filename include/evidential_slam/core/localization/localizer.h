@@ -1,15 +1,14 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
-// only; each update samples the odometry motion model, corrects the samples by the SLAM's scan
-// matcher (scan_matching: once from the estimate when the cloud has converged, the correction
-// applied to every sample, with the wide-basin search when that match does not explain the scan;
-// else each sample refined on its own), weighs them by the evidential forward model (BeamModel,
-// tempered like the SLAM's weights) and never writes the map. Every resample_interval
-// updates the particles are resampled with KLD-sampling, which adapts their number to the
-// spread of the cloud between min_particles and max_particles; with recovery_alpha_slow/_fast,
-// random poses from the map's free space are added when the scans' plausibility drops (augmented
-// MCL, as amcl). The pose estimate is the mean and covariance of the heaviest cluster of
-// particles. The anomaly of every processed scan at the estimate is accumulated against the map
-// (anomaly.h): what changed since the map was made.
+// only; each update samples the odometry motion model (the proposal, as amcl's; after a global
+// localization, until the cloud has narrowed to the scan matcher's search radius, each sample is
+// also scan-matched), weighs the samples by the evidential forward model (BeamModel on at most
+// laser_max_beams hit beams, tempered like the SLAM's weights) and never writes the map. Every
+// resample_interval updates the particles are resampled with KLD-sampling, which adapts their
+// number to the spread of the cloud between min_particles and max_particles; with
+// recovery_alpha_slow/_fast, random poses from the map's free space are added when the scans'
+// plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
+// heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly of every processed scan at the estimate is accumulated
+// against the map (anomaly.h): what changed since the map was made.
 #pragma once
 
 #include <cstdint>
@@ -55,7 +54,7 @@ struct LocalizerStats {
   uint64_t scans_rejected = 0;
   uint64_t resamplings = 0;
   uint64_t particle_updates = 0;  // Σ over processed scans of the particles updated
-  uint64_t wide_matches = 0;      // updates whose match from the estimate ran the wide search
+  uint64_t scan_matches = 0;      // scan matches of the estimate (one per processed scan at most)
   size_t max_particles_used = 0;
   size_t min_particles_used = 0;  // over the processed scans (0 before the first)
 };
@@ -101,7 +100,7 @@ class Localizer {
   bool initialized() const { return !particles_.empty(); }
   const std::vector<LocalizationParticle>& particles() const { return particles_; }
   // Mean and covariance of the heaviest cluster (particles in adjacent KLD bins) at the last
-  // update, moved by the odometry since.
+  // update, the mean refined by the scan match, moved by the odometry since.
   PoseEstimate estimate() const;
   // map -> odom for the latest scan (REP-105): estimate ⊕ odometry⁻¹.
   Pose2 mapToOdom() const;
@@ -120,6 +119,8 @@ class Localizer {
   void drawKld(size_t max, Draw&& draw);
   void resample(LocalizationUpdate* update);
   void computeEstimate();
+  // The standard deviation of the particles' positions along the cloud's widest axis (m).
+  double cloudSpread() const;
   void buildFreeCells();
   Pose2 randomFreePose(Rng* rng) const;
   // The pose's cell is observed, not believed occupied (BetP(o) < 1/2) and NS < kFreeSpaceNS.
@@ -139,11 +140,13 @@ class Localizer {
   struct Workspace;
   std::vector<std::unique_ptr<Workspace>> workspaces_;
   bool have_odometry_ = false;  // an update happened since the last reset
+  // A global localization whose cloud is still wider than the matcher's search radius: each
+  // sample is matched.
+  bool searching_ = false;
   bool force_update_ = false;
   Pose2 last_update_odometry_;
   Pose2 last_odometry_;
   PoseEstimate estimate_;        // at the last update (or reset)
-  double estimate_weight_ = 0.0;  // the weight of the cluster it is the mean of
   int updates_since_resample_ = 0;
   uint64_t step_ = 0;  // random streams: one per update and particle
   uint64_t draws_ = 0;
