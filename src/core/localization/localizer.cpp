@@ -34,16 +34,6 @@ bool finite(const Pose2& p) {
 constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
 }  // namespace
 
-bool LocalizationConfig::isValid(std::string* why) const {
-  bool ok = true;
-  ES_LOCALIZATION_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
-  if (!ok) return false;
-  if (min_particles > max_particles) {
-    return refuse(why, "min_particles must not be above max_particles");
-  }
-  return true;
-}
-
 // The models for one declared range noise (as the SLAM's, without its long-step settings).
 struct Localizer::Models {
   Models(const SlamConfig& slam, float range_sigma, double resolution)

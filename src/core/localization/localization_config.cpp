@@ -1,0 +1,20 @@
+// LocalizationConfig's checks, apart from the Localizer so that what reads parameters (the
+// parameter files, their fuzz target) links without the filter.
+#include "evidential_slam/core/localization/localization_config.h"
+
+#include "evidential_slam/core/parameters.h"
+
+namespace evidential_slam {
+
+bool LocalizationConfig::isValid(std::string* why) const {
+  bool ok = true;
+  ES_LOCALIZATION_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
+  if (!ok) return false;
+  if (min_particles > max_particles) {
+    if (why != nullptr) *why = "min_particles must not be above max_particles";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace evidential_slam
