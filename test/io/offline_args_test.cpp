@@ -183,7 +183,7 @@ TEST(OfflineArgs, BadConfigFiles) {
 // Names and values are the file's bytes: the error shows them as printable text, on one line.
 TEST(OfflineArgs, ConfigFileErrorsArePrintable) {
   const TempFile unknown("par\x1b[2J\xffticles: 3\n");
-  const TempFile not_single("\x07bell: [1, 2]\n");
+  const TempFile not_single("\x07" "bell: [1, 2]\n");
   const TempFile bad_value("particles: \"3\\r\\n0\\x01\"\n");
   for (const std::string& path : {unknown.path, not_single.path, bad_value.path}) {
     OfflineOptions o;
