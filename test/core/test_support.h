@@ -12,6 +12,17 @@
 namespace evidential_slam {
 namespace testing_room {
 
+// Distance from `pose` along the direction (c, s) = (cos, sin) to the nearest wall of a 4 m x 4 m
+// room centred on the origin (walls x, y = ±2).
+inline double roomWallRange(const Pose2& pose, double c, double s) {
+  double t = 1e9;
+  if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
+  if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
+  if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
+  if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+  return t;
+}
+
 // Scan of a 4 m x 4 m room centred on the origin (walls x, y = ±2): 360 beams over a full turn
 // from `pose` (sensor at the robot origin), each the range to the nearest wall. With `with_box`,
 // a wall segment x = 1 for y in [0.5, 2] breaks the room's symmetry.
@@ -24,11 +35,7 @@ inline LaserScan roomScan(const Pose2& pose, double stamp = 0.0, bool with_box =
     const double bearing = -kPi + i * (2 * kPi / 360);
     const double a = pose.theta + bearing;
     const double c = std::cos(a), s = std::sin(a);
-    double t = 1e9;
-    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
-    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
-    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
-    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+    double t = roomWallRange(pose, c, s);
     if (with_box && c > 1e-9 && pose.x < 1.0) {
       const double tb = (1.0 - pose.x) / c;
       const double yb = pose.y + tb * s;

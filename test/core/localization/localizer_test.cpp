@@ -56,11 +56,7 @@ LaserScan blockRoomScan(const Pose2& pose, double stamp, bool with_block) {
     const double bearing = -M_PI + i * (2 * M_PI / 360);
     const double a = pose.theta + bearing;
     const double c = std::cos(a), s = std::sin(a);
-    double t = 1e9;
-    if (c > 1e-9) t = std::min(t, (2.0 - pose.x) / c);
-    if (c < -1e-9) t = std::min(t, (-2.0 - pose.x) / c);
-    if (s > 1e-9) t = std::min(t, (2.0 - pose.y) / s);
-    if (s < -1e-9) t = std::min(t, (-2.0 - pose.y) / s);
+    double t = testing_room::roomWallRange(pose, c, s);
     if (with_block) {
       // Ray and box, slab by slab.
       double t0 = 0.0, t1 = 1e9;
