@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Drives a running evidential_slam node for scripts/soak (parts b and c).
+"""Drives or watches a running evidential_slam node for scripts/soak (parts b, c and d).
 
 A robot in a 10 m x 10 m room, odometry exact, stepping 1 m back and forth along x so that every
 scan passes the motion gate (every scan is a full filter update, and the map stops growing once
@@ -11,6 +11,9 @@ filter thread ("slam_worker" in /proc/PID/task/*/comm).
          (sent, received, handled, drops by kind, queue length) and RSS at start, middle and end;
          exit 1 when a scan is not accounted for (received != handled + dropped) or one sent was
          not received.
+  watch  --minutes M: another publisher (rosbag play) feeds the node; count the scans on /scan,
+         sample the node as flood does, wait for the scans to stop and the queue to drain; exit
+         1 when a scan is not accounted for or one on /scan was not received.
   saves  --saves S --save-dir DIR [--block B --max-seconds T]: publish scans in blocks of B
          seconds, calling ~save_map into DIR throughout every other block, until S calls (or T
          seconds) and as many blocks with saves as without; print the filter thread's CPU
@@ -83,8 +86,8 @@ def rss_mb(pid):
     return float("nan")
 
 
-def worker_cpu_s(pid):
-    """CPU seconds (user + system) of the node's slam_worker thread."""
+def worker_cpu(pid):
+    """CPU seconds (user, system) of the node's slam_worker thread."""
     tick = os.sysconf("SC_CLK_TCK")
     for tid in os.listdir("/proc/%d/task" % pid):
         base = "/proc/%d/task/%s/" % (pid, tid)
@@ -94,10 +97,15 @@ def worker_cpu_s(pid):
                     continue
             with open(base + "stat") as fh:
                 fields = fh.read().rsplit(")", 1)[1].split()
-            return (int(fields[11]) + int(fields[12])) / tick
+            return int(fields[11]) / tick, int(fields[12]) / tick
         except OSError:
             continue
     raise RuntimeError("no slam_worker thread in process %d" % pid)
+
+
+def worker_cpu_s(pid):
+    """CPU seconds (user + system) of the node's slam_worker thread."""
+    return sum(worker_cpu(pid))
 
 
 class Robot:
@@ -228,6 +236,59 @@ def flood(args, hb, robot):
     return ok
 
 
+def watch(args, hb):
+    """Another publisher (rosbag play) feeds the node: counts the scans on /scan, samples the
+    node for --minutes, then waits until the scans stop and the queue drains."""
+    seen = {"n": 0, "last": time.time()}
+
+    def on_scan(_):
+        seen["n"] += 1
+        seen["last"] = time.time()
+
+    rospy.Subscriber("/scan", LaserScan, on_scan, queue_size=100000)
+    samples = []  # (t, rss, seen, received, handled, queue, queue-full drops, restarts)
+    t0 = time.time()
+    while not rospy.is_shutdown() and time.time() - t0 < args.minutes * 60.0:
+        hb.wait_newer()
+        samples.append((time.time() - t0, rss_mb(args.pid), seen["n"], hb.get("scans received"),
+                        hb.get("scans handled"), hb.get("queue length"),
+                        hb.get("dropped: queue full"), hb.get("restarts")))
+        time.sleep(max(0.0, t0 + 10.0 * len(samples) - time.time()))
+    while time.time() - seen["last"] < 5.0:  # the publisher stops at the same time
+        time.sleep(0.5)
+    drained = drain(hb, 300.0)
+    time.sleep(2.0)
+    hb.wait_newer()
+    received, handled = hb.get("scans received"), hb.get("scans handled")
+    rss = [s[1] for s in samples]
+    mid = samples[len(samples) // 2]
+    print("watch: %.0f s: scans on /scan %d, received %d, handled %d, restarts %d" % (
+        time.time() - t0, seen["n"], received, handled, hb.get("restarts")))
+    print("watch: " + ", ".join("%s %d" % (k, hb.get(k)) for k in DROPS))
+    print("watch: queue length max %d of %d (sampled every 10 s)" % (
+        max(s[5] for s in samples), hb.get("queue capacity")))
+    print("watch: RSS start %.1f MB (t = %.0f s), middle %.1f MB (t = %.0f s), end %.1f MB "
+          "(t = %.0f s); min %.1f, max %.1f" % (
+              samples[0][1], samples[0][0], mid[1], mid[0], samples[-1][1], samples[-1][0],
+              min(rss), max(rss)))
+    for s in samples:
+        print("watch:   t %6.0f s  RSS %7.1f MB  on /scan %8d  received %8d  handled %7d  "
+              "queue %5d  queue full %8d  restarts %4d" % s)
+    ok = True
+    if not drained:
+        print("watch: FAIL: the queue did not drain within 300 s")
+        ok = False
+    lost = received - accounted(hb)
+    print("watch: received - (handled + queue full + malformed + no transform) = %d" % lost)
+    if lost != 0:
+        print("watch: FAIL: scans not accounted for")
+        ok = False
+    if seen["n"] != received:
+        print("watch: FAIL: %d scans on /scan, %d received by the node" % (seen["n"], received))
+        ok = False
+    return ok
+
+
 def saves(args, hb, robot):
     """Blocks of --block seconds, saving in every other one, so both kinds see the same load."""
     from evidential_slam.srv import SaveMap
@@ -257,17 +318,28 @@ def saves(args, hb, robot):
     totals = {False: [0.0, 0.0], True: [0.0, 0.0]}  # saving -> [cpu s, handled]
     blocks = {False: 0, True: 0}
     t0 = time.time()
-    mark = (time.time(), worker_cpu_s(args.pid), hb.get("scans handled"))
+    # (wall, monotonic, (user, system) CPU s, handled, calls) at the start of the block
+    mark = (time.time(), time.monotonic(), worker_cpu(args.pid), hb.get("scans handled"),
+            state["calls"])
     next_pub = t0
     while not rospy.is_shutdown():
         now = time.time()
         if now - mark[0] >= args.block:
             hb.wait_newer()
-            cpu, handled = worker_cpu_s(args.pid), hb.get("scans handled")
-            totals[state["saving"]][0] += cpu - mark[1]
-            totals[state["saving"]][1] += handled - mark[2]
+            cpu, handled, calls = worker_cpu(args.pid), hb.get("scans handled"), state["calls"]
+            user, system = cpu[0] - mark[2][0], cpu[1] - mark[2][1]
+            totals[state["saving"]][0] += user + system
+            totals[state["saving"]][1] += handled - mark[3]
             blocks[state["saving"]] += 1
-            mark = (time.time(), cpu, handled)
+            # One line per block; the monotonic times match `perf record --clockid monotonic`.
+            print("saves: block %d %s saves: monotonic %.3f-%.3f s, %d calls, %d scans handled, "
+                  "filter thread CPU %.2f s (user %.2f, system %.2f), %.2f ms per scan, "
+                  "load %s" % (blocks[False] + blocks[True], "with" if state["saving"] else
+                              "without", mark[1], time.monotonic(), calls - mark[4],
+                              handled - mark[3], user + system, user, system,
+                              1000.0 * (user + system) / max(1.0, handled - mark[3]),
+                              os.getloadavg()[0]), flush=True)
+            mark = (time.time(), time.monotonic(), cpu, handled, calls)
             done = now - t0 >= args.max_seconds or (args.saves > 0 and state["calls"] >= args.saves)
             if done and blocks[True] == blocks[False]:
                 break
@@ -296,7 +368,7 @@ def saves(args, hb, robot):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("mode", choices=["flood", "saves"])
+    ap.add_argument("mode", choices=["flood", "saves", "watch"])
     ap.add_argument("--pid", type=int, required=True, help="the node's process id")
     ap.add_argument("--rate", type=float, default=100.0, help="scans per second")
     ap.add_argument("--minutes", type=float, default=10.0)
@@ -308,6 +380,10 @@ def main():
     args = ap.parse_args()
     rospy.init_node("soak_driver", disable_signals=True)
     hb = Heartbeat()
+    if args.mode == "watch":
+        if not hb.wait_newer(60.0):
+            sys.exit("soak_node: the node did not come up (no heartbeat)")
+        sys.exit(0 if watch(args, hb) else 1)
     robot = Robot()
     wait_for_node(hb, robot)
     ok = flood(args, hb, robot) if args.mode == "flood" else saves(args, hb, robot)
