@@ -226,6 +226,10 @@ void SlamNodelet::onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
                   (last_arrival_ros_time_ - now).toSec(), last_arrival_ros_time_.toSec(),
                   now.toSec());
     worker_->requestRestart(reason);
+    // tf2's listener clears its buffer at the jump, but a /tf of the previous loop still queued
+    // behind /clock can land after that clear and make every new transform "too old" for
+    // cache_time; clearing again at the new loop's first scan drops it.
+    tf_buffer_->clear();
   }
   last_arrival_ros_time_ = now;
   last_raw_scan_ = msg;
