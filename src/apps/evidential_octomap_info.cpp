@@ -100,6 +100,7 @@ int main(int argc, char** argv) {
   if (cmp.anomaly_compared)
     std::printf("             max |diff| anomaly %.3g bits\n", cmp.anomaly_max_abs_diff);
   const bool same = cmp.identical(1e-6);
-  std::printf("result:      %s\n", same ? "identical masses" : "MASSES DIFFER");
+  const char* what = cmp.anomaly_compared ? "masses and anomaly" : "masses";
+  std::printf("result:      %s %s\n", same ? "identical" : "DIFFERENT", what);
   return same ? 0 : 3;
 }

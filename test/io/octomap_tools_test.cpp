@@ -5,6 +5,7 @@
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/io/evidential_octree.h"
+#include "evidential_slam/io/npy.h"
 #include "evidential_slam/io/octomap_export.h"
 #include "octomap_test_support.h"
 
@@ -253,7 +255,7 @@ TEST(OctomapOffline, ExportOctomapWritesThreeFilesThatReadBackIdentically) {
       {(out / "octomap/map.evidential.ot").string(), "--compare-layers", (out / "layers").string()},
       scratch);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("result:      identical masses"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("result:      identical masses and anomaly"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" 0 missing, 0 extra"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(std::to_string(o["voxels"].get<uint64_t>()) + " voxels vs"),
             std::string::npos)
@@ -265,6 +267,31 @@ TEST(OctomapOffline, ExportOctomapWritesThreeFilesThatReadBackIdentically) {
       << r.out;
   EXPECT_GT(std::stoul(anomaly[1].str()), 0u) << "the run has no anomaly to compare";
   std::printf("offline export: %s voxels with an anomaly\n", anomaly[1].str().c_str());
+
+  {  // One observed cell's anomaly changed in layers/: the comparison sees it.
+    NpyArray observed, anomaly_npy;
+    std::string error;
+    ASSERT_TRUE(readNpy((out / "layers/observed.npy").string(), &observed, &error)) << error;
+    ASSERT_TRUE(readNpy((out / "layers/anomaly.npy").string(), &anomaly_npy, &error)) << error;
+    const std::vector<uint8_t> seen_cells = observed.asUint8();
+    std::vector<float> bits = anomaly_npy.asFloat32();
+    const size_t cell = std::find(seen_cells.begin(), seen_cells.end(), 1) - seen_cells.begin();
+    ASSERT_LT(cell, bits.size());
+    bits[cell] += 0.5f;
+    const fs::path changed = scratch / "changed_layers";
+    fs::copy(out / "layers", changed);
+    ASSERT_TRUE(writeNpy((changed / "anomaly.npy").string(), bits.data(),
+                         static_cast<int>(anomaly_npy.shape[0]),
+                         static_cast<int>(anomaly_npy.shape[1]), &error))
+        << error;
+    const RunResult d = runProgram(
+        ES_INFO_BIN,
+        {(out / "octomap/map.evidential.ot").string(), "--compare-layers", changed.string()},
+        scratch);
+    EXPECT_EQ(d.exit_code, 3) << d.out << d.err;
+    EXPECT_NE(d.out.find("max |diff| anomaly 0.5 bits"), std::string::npos) << d.out;
+    EXPECT_NE(d.out.find("result:      DIFFERENT masses and anomaly"), std::string::npos) << d.out;
+  }
 
   if (std::string(ES_BT2VRML).empty()) FAIL() << "bt2vrml not found (octomap-tools)";
   r = runProgram(ES_BT2VRML, {(out / "octomap/map.bt").string()}, scratch);
@@ -287,7 +314,7 @@ TEST(OctomapOffline, CompareLayersDetectsADifferentMap) {
       {(a / "octomap/map.evidential.ot").string(), "--compare-layers", (b / "layers").string()},
       scratch);
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
-  EXPECT_NE(r.out.find("MASSES DIFFER"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("DIFFERENT masses"), std::string::npos) << r.out;
 }
 
 TEST(OctomapOffline, SlabHeightsAndUnwritableOutput) {
