@@ -1,6 +1,7 @@
-// evidential_octomap_info: reads an EvidentialOcTree (.evidential.ot) back through the library and
-// prints its resolution, bounds, node counts and per-layer mass statistics; with --compare-layers
-// it checks every voxel against the layers/ the offline runner wrote for the same map.
+// evidential_octomap_info: reads an EvidentialOcTree (.evidential.ot, either layout) back through
+// the library and prints its resolution, bounds, node counts and per-layer statistics of the masses
+// and the anomaly; with --compare-layers it checks every voxel against the layers/ the offline
+// runner wrote for the same map.
 //   evidential_octomap_info FILE.ot [--compare-layers DIR]
 // Exit codes: 0 success, 1 bad usage, 2 unreadable file, 3 the masses differ from DIR.
 #include <cstdio>
@@ -20,10 +21,11 @@ int usage(const char* program, std::FILE* to, int code) {
       "usage: %s FILE.ot [--compare-layers DIR]\n"
       "\n"
       "Reads an EvidentialOcTree file (evidential_slam's <name>.evidential.ot) and prints\n"
-      "its resolution, bounds, node count and statistics of every layer over its voxels.\n"
-      "  --compare-layers DIR   compare each voxel's masses with a run's layers/ (the\n"
-      "                         occupied/free/unknown/conflict .npy files); exit 3 on\n"
-      "                         any difference\n",
+      "its resolution, bounds, node count and statistics of every layer over its voxels\n"
+      "(the anomaly only in files that hold it: layout 2, id EvidentialAnomalyOcTree).\n"
+      "  --compare-layers DIR   compare each voxel's masses (and anomaly) with a run's\n"
+      "                         layers/ (the occupied/free/unknown/conflict/anomaly .npy\n"
+      "                         files); exit 3 on any difference\n",
       program);
   return code;
 }
@@ -58,7 +60,8 @@ int main(int argc, char** argv) {
   }
   const es::io::OctreeStats s = es::io::computeOctreeStats(*tree);
   std::printf("file:        %s\n", path.c_str());
-  std::printf("type:        %s, resolution %.9g m\n", tree->getTreeType().c_str(), s.resolution);
+  std::printf("type:        %s (layout %d), resolution %.9g m\n", tree->getTreeType().c_str(),
+              static_cast<int>(s.layout), s.resolution);
   std::printf("bounds:      x [%.4f, %.4f]  y [%.4f, %.4f]  z [%.4f, %.4f] m\n", s.min[0], s.max[0],
               s.min[1], s.max[1], s.min[2], s.max[2]);
   std::printf("nodes:       %zu (%zu leaves), %llu voxels in %zu height layer(s)\n", s.nodes,
@@ -68,9 +71,16 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(s.voxels - s.occupied_voxels));
   std::printf("%-20s %12s %12s %12s\n", "layer", "min", "mean", "max");
   for (int l = 0; l < es::kLayerCount; ++l) {
-    if (static_cast<es::Layer>(l) == es::Layer::kAnomaly) continue;  // not held by the voxels
+    if (static_cast<es::Layer>(l) == es::Layer::kAnomaly && !s.has_anomaly) continue;
     std::printf("%-20s %12.6f %12.6f %12.6f\n", es::layerNames()[l].c_str(), s.layers[l].min,
                 s.layers[l].mean, s.layers[l].max);
+  }
+  if (s.has_anomaly) {
+    std::printf("anomaly:     %llu voxels with an anomaly, %.6g bits over all voxels\n",
+                static_cast<unsigned long long>(s.anomaly_voxels), s.anomaly_voxel_bits);
+  } else {
+    std::printf(
+        "anomaly:     not in this file (layout 1, written before the anomaly was exported)\n");
   }
   if (layers_dir.empty()) return 0;
 
@@ -87,7 +97,10 @@ int main(int argc, char** argv) {
       static_cast<unsigned long long>(cmp.missing_voxels),
       static_cast<unsigned long long>(cmp.extra_voxels), cmp.max_abs_diff[0], cmp.max_abs_diff[1],
       cmp.max_abs_diff[2], cmp.max_abs_diff[3]);
+  if (cmp.anomaly_compared)
+    std::printf("             max |diff| anomaly %.3g bits\n", cmp.anomaly_max_abs_diff);
   const bool same = cmp.identical(1e-6);
-  std::printf("result:      %s\n", same ? "identical masses" : "MASSES DIFFER");
+  const char* what = cmp.anomaly_compared ? "masses and anomaly" : "masses";
+  std::printf("result:      %s %s\n", same ? "identical" : "DIFFERENT", what);
   return same ? 0 : 3;
 }

@@ -60,15 +60,21 @@ void MapPublisher::run() {
     const MapSnapshot snapshot = source_();
     bool layer_request = false;
     for (const auto& wanted : layer_wanted_) layer_request = layer_request || wanted;
-    if (snapshot.grid && (snapshot.version != published_version_ || layer_request)) {
-      publish(snapshot, snapshot.version != published_version_);
+    const bool map_changed = snapshot.version != published_version_;
+    // The anomaly layer alone is rendered only for its subscribers.
+    const bool anomaly_changed =
+        snapshot.anomaly_version != published_anomaly_version_ &&
+        layer_pubs_[static_cast<int>(Layer::kAnomaly)].getNumSubscribers() > 0;
+    if (snapshot.grid && (map_changed || anomaly_changed || layer_request)) {
+      publish(snapshot, map_changed, anomaly_changed);
       published_version_ = snapshot.version;
+      published_anomaly_version_ = snapshot.anomaly_version;
     }
     lock.lock();
   }
 }
 
-void MapPublisher::publish(const MapSnapshot& snapshot, bool changed) {
+void MapPublisher::publish(const MapSnapshot& snapshot, bool map_changed, bool anomaly_changed) {
   const AnomalyGrid anomaly =
       snapshot.anomaly_grid ? *snapshot.anomaly_grid : accumulateAnomaly(snapshot.anomaly.get());
   const LayerRaster raster = extractLayers(*snapshot.grid, 10, &anomaly);
@@ -76,7 +82,7 @@ void MapPublisher::publish(const MapSnapshot& snapshot, bool changed) {
   header.stamp.fromSec(snapshot.stamp);
   header.frame_id = map_frame_;
 
-  if (changed) {
+  if (map_changed) {
     nav_msgs::OccupancyGrid map;
     toTrinaryOccupancyGrid(raster, occupied_thresh_.load(), free_thresh_.load(), header, &map);
     map_pub_.publish(map);
@@ -89,6 +95,7 @@ void MapPublisher::publish(const MapSnapshot& snapshot, bool changed) {
   }
   for (int l = 0; l < kLayerCount; ++l) {
     const bool wanted = layer_wanted_[l].exchange(false);
+    const bool changed = map_changed || (anomaly_changed && l == static_cast<int>(Layer::kAnomaly));
     if (!wanted && !(changed && layer_pubs_[l].getNumSubscribers() > 0)) continue;
     nav_msgs::OccupancyGrid layer;
     toOccupancyGrid(raster, static_cast<Layer>(l),

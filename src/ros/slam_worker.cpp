@@ -91,23 +91,47 @@ void SlamWorker::changeOnWorker(const std::function<void(MappingSession& session
   });
 }
 
+namespace {
+
+// True when `a` and `b` are copies of one map: the same resolution and the same tiles (copies
+// share them until one is written: evidential_grid.h), so the same cells.
+bool sameTiles(const EvidentialGridMap& a, const EvidentialGridMap& b) {
+  if (a.resolution() != b.resolution() || a.allocatedTiles() != b.allocatedTiles()) return false;
+  bool same = true;
+  a.forEachTile([&](int tx, int ty, const auto& tile) { same = same && b.tile(tx, ty) == &tile; });
+  return same;
+}
+
+}  // namespace
+
 void SlamWorker::updateSnapshot(const double* stamp) {
   std::shared_ptr<const EvidentialGridMap> grid;
   std::shared_ptr<const AnomalyNode> anomaly;
   std::shared_ptr<const AnomalyGrid> anomaly_grid;
+  std::shared_ptr<const EvidentialGridMap> previous;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    previous = map_.grid;
+  }
   if (session_.localizing()) {
-    grid = std::make_shared<const EvidentialGridMap>(session_.localizer().map());
+    // The stored map changes only when another one is loaded: keep the snapshot's copy (and its
+    // version) while it is the same map, so /map is not sent again for every scan.
+    const EvidentialGridMap& stored = session_.localizer().map();
+    grid = previous && sameTiles(*previous, stored)
+               ? previous
+               : std::make_shared<const EvidentialGridMap>(stored);
     anomaly_grid = std::make_shared<const AnomalyGrid>(session_.localizer().anomaly());
   } else if (!session_.engine().filter().particles().empty()) {
     grid = std::make_shared<const EvidentialGridMap>(session_.engine().bestMap());
     anomaly = session_.engine().bestAnomalyLineage();
   }
   std::lock_guard<std::mutex> lock(mutex_);
+  if (grid != map_.grid) ++map_.version;
+  ++map_.anomaly_version;
   map_.grid = std::move(grid);
   map_.anomaly = std::move(anomaly);
   map_.anomaly_grid = std::move(anomaly_grid);
   if (stamp != nullptr) map_.stamp = *stamp;
-  ++map_.version;
 }
 
 MapSnapshot SlamWorker::latestMap() const {

@@ -137,8 +137,8 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
     octomap_config.z_min = config.octomap_z_min;
     octomap_config.z_max = config.octomap_z_max;
     io::OctomapExportResult result;
-    if (!io::exportOctomap(map, octomap_config, (octomap_dir / "map").string(), &result, error,
-                           files)) {
+    if (!io::exportOctomap(map, save.anomaly, octomap_config, (octomap_dir / "map").string(),
+                           &result, error, files)) {
       return false;
     }
     OctomapFilesReport octomap;

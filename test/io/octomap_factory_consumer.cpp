@@ -1,7 +1,8 @@
 // A third party's view of an evidential .ot file: only OctoMap's factory (AbstractOcTree::read)
 // and a dynamic_cast to the library's tree type, nothing else from evidential_slam. Run by
 // test_octomap: it fails if Debian's --as-needed linking dropped the library and with it the
-// tree's registration. Prints the node count and the masses of the first leaf.
+// tree's registration. Prints the tree type, node count, and the masses and anomaly of the first
+// leaf (the anomaly is 0 in a layout-1 file).
 #include <cstdio>
 #include <memory>
 
@@ -26,8 +27,8 @@ int main(int argc, char** argv) {
   const auto leaf = evidential->begin_leafs();
   if (leaf != evidential->end_leafs()) {
     const evidential_slam::Cell& c = leaf->cell();
-    std::printf("first leaf m~(o) %.9g m~(e) %.9g lambda %.9g\n", c.occupied(), c.free(),
-                c.lambda());
+    std::printf("first leaf m~(o) %.9g m~(e) %.9g lambda %.9g anomaly %.9g\n", c.occupied(),
+                c.free(), c.lambda(), leaf->anomaly());
   }
   return 0;
 }

@@ -24,13 +24,17 @@ namespace fs = std::filesystem;
 // failing.
 constexpr long kFuzzRuns = 20000;
 
-// Small valid trees (the fuzzer's default max_len is 4096 bytes, the seeds stay below it).
+// Small valid trees of both layouts (the fuzzer's default max_len is 4096 bytes, the seeds stay
+// below it): the exporter's (layout 2, with and without an anomaly) and the committed file of
+// layout 1.
 std::vector<std::string> validSeeds(const fs::path& dir) {
   std::vector<std::string> seeds;
-  auto add = [&](const EvidentialGridMap& grid, const OctomapExportConfig& config) {
+  auto add = [&](const EvidentialGridMap& grid, const OctomapExportConfig& config,
+                 const AnomalyGrid& anomaly = AnomalyGrid()) {
     OctomapExportResult result;
     std::string error;
-    EXPECT_TRUE(exportOctomap(grid, config, (dir / "seed").string(), &result, &error)) << error;
+    EXPECT_TRUE(exportOctomap(grid, anomaly, config, (dir / "seed").string(), &result, &error))
+        << error;
     seeds.push_back(test::readText(dir / "seed.evidential.ot"));
   };
   EvidentialGridMap empty(0.05);
@@ -51,6 +55,11 @@ std::vector<std::string> validSeeds(const fs::path& dir) {
     }
   }
   add(block, two_layers);
+  AnomalyGrid anomaly;
+  anomaly.add(1, 0, 2.5f);
+  anomaly.add(-3, 2, 0.75f);
+  add(few, two_layers, anomaly);
+  seeds.push_back(test::readText(test::dataPath("octomap_masses_v1.evidential.ot")));
   return seeds;
 }
 

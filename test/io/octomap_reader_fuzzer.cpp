@@ -1,9 +1,11 @@
 // libFuzzer target for readEvidentialOctree (built with clang by cmake/OctomapTargets.cmake, run by
 // test_octomap_fuzz). Besides "no crash, no leak, no undefined behaviour" under ASan/UBSan, a file
 // the reader accepts must hold only valid masses, and writing the tree's node data back must give
-// exactly the bytes the file ended with (the reader accepts no trailing bytes).
+// exactly the bytes the file ended with (the reader accepts no trailing bytes) in the file's own
+// layout (1: masses, 2: masses and anomaly).
 // ES_FUZZ_EXPECT_VALID=1 makes any rejected input abort: the test uses it to check that its valid
 // seeds are read by this build.
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -48,6 +50,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const evidential_slam::Cell& c = it->cell();
     if (!io::isValidStoredCell(c.occupied(), c.free(), c.lambda())) {
       die("invalid cell accepted", "");
+    }
+    if (!(it->anomaly() >= 0.0f) || !std::isfinite(it->anomaly())) {
+      die("invalid anomaly accepted", "");
+    }
+    if (tree->layout() == io::EvidentialLayout::kMasses && it->anomaly() != 0.0f) {
+      die("an anomaly in a layout-1 file", "");
     }
     if (it.getDepth() > tree->getTreeDepth()) die("node below the finest level", "");
   }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/mass.h"
 #include "test_util.h"
@@ -53,6 +54,19 @@ inline EvidentialGridMap makeTestGrid(double resolution = 0.05) {
   // Balanced evidence: BetP exactly 0.5.
   grid.mutableCell(45, -10) = Cell::fromStored(0.25f, 0.25f, 0.0f);
   return grid;
+}
+
+// An anomaly layer for makeTestGrid(): hand values on four observed cells (a wall, a free cell,
+// the heavily conflicted one, the balanced one) and on one unobserved hole, which no voxel holds.
+constexpr int kTestAnomalyObservedCells = 4;
+inline AnomalyGrid makeTestAnomaly() {
+  AnomalyGrid anomaly;
+  anomaly.add(30, 5, 2.5f);
+  anomaly.add(10, 10, 0.125f);
+  anomaly.add(-40, 25, 17.75f);
+  anomaly.add(45, -10, 1.0f);
+  anomaly.add(0, 0, 9.0f);  // unobserved
+  return anomaly;
 }
 
 struct Observed {

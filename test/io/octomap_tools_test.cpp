@@ -5,6 +5,7 @@
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/io/evidential_octree.h"
+#include "evidential_slam/io/npy.h"
 #include "evidential_slam/io/octomap_export.h"
 #include "octomap_test_support.h"
 
@@ -36,9 +38,11 @@ class OctomapTools : public ::testing::Test {
   void SetUp() override {
     scratch_ = test::scratchDir();
     grid_ = test::makeTestGrid();
+    anomaly_ = test::makeTestAnomaly();
     prefix_ = (scratch_ / "map").string();
     std::string error;
-    ASSERT_TRUE(exportOctomap(grid_, OctomapExportConfig(), prefix_, &result_, &error)) << error;
+    ASSERT_TRUE(exportOctomap(grid_, anomaly_, OctomapExportConfig(), prefix_, &result_, &error))
+        << error;
   }
   void requireTool(const std::string& path, const char* name) {
     ASSERT_FALSE(path.empty()) << name << " was not found at configure time (octomap-tools)";
@@ -46,6 +50,7 @@ class OctomapTools : public ::testing::Test {
 
   fs::path scratch_;
   EvidentialGridMap grid_;
+  AnomalyGrid anomaly_;
   std::string prefix_;
   OctomapExportResult result_;
 };
@@ -130,10 +135,17 @@ TEST_F(OctomapTools, ConvertOctreeRejectsGarbage) {
 TEST_F(OctomapTools, AThirdPartyProgramReadsTheTreeThroughOctomapsFactory) {
   const RunResult r = runProgram(ES_CONSUMER_BIN, {prefix_ + ".evidential.ot"}, scratch_);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("type EvidentialOcTree nodes " + std::to_string(result_.files[0].nodes)),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find("type EvidentialAnomalyOcTree nodes " + std::to_string(result_.files[0].nodes)),
+      std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("first leaf"), std::string::npos) << r.out;
+  // And the file of the old layout, whose first leaf is cell (-2, 3) (lowest key first).
+  const RunResult old =
+      runProgram(ES_CONSUMER_BIN, {test::dataPath("octomap_masses_v1.evidential.ot")}, scratch_);
+  ASSERT_EQ(old.exit_code, 0) << old.out << old.err;
+  EXPECT_NE(old.out.find("type EvidentialOcTree nodes 50\n"), std::string::npos) << old.out;
+  EXPECT_NE(old.out.find("anomaly 0\n"), std::string::npos) << old.out;
 }
 
 // ---- evidential_octomap_info ----------------------------------------------------------------
@@ -143,19 +155,23 @@ TEST_F(OctomapTools, InfoToolPrintsTheStatisticsOfTheGrid) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
   const auto cells = test::observedCells(grid_);
-  EXPECT_NE(r.out.find("EvidentialOcTree, resolution 0.05 m"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("EvidentialAnomalyOcTree (layout 2), resolution 0.05 m"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find(std::to_string(cells.size()) + " voxels in 1 height layer(s)"),
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("z [0.0000, 0.0500] m"), std::string::npos) << r.out;
-  // Mean of every layer as printed (6 decimals) against the grid's own cells. The anomaly, which
-  // the voxels do not hold, is not printed.
-  EXPECT_EQ(r.out.find("\nanomaly "), std::string::npos) << r.out;
+  // Mean of every layer as printed (6 decimals) against the grid's own cells and the anomaly.
+  // Four observed cells hold 2.5 + 0.125 + 17.75 + 1 bits (the unobserved one is not a voxel).
+  EXPECT_NE(r.out.find("anomaly:     4 voxels with an anomaly, 21.375 bits over all voxels"),
+            std::string::npos)
+      << r.out;
   for (int l = 0; l < kLayerCount; ++l) {
-    if (static_cast<Layer>(l) == Layer::kAnomaly) continue;
     double sum = 0.0, lo = 1e300, hi = -1e300;
     for (const auto& o : cells) {
-      const double v = layerValue(o.cell, static_cast<Layer>(l));
+      const double v = static_cast<Layer>(l) == Layer::kAnomaly
+                           ? anomaly_.at(o.index.x, o.index.y)
+                           : layerValue(o.cell, static_cast<Layer>(l));
       sum += v;
       lo = std::min(lo, v);
       hi = std::max(hi, v);
@@ -167,6 +183,21 @@ TEST_F(OctomapTools, InfoToolPrintsTheStatisticsOfTheGrid) {
     EXPECT_NEAR(std::stod(m[2]), sum / cells.size(), 1e-6) << layerNames()[l];
     EXPECT_NEAR(std::stod(m[3]), hi, 1e-6) << layerNames()[l];
   }
+}
+
+TEST_F(OctomapTools, InfoToolReadsTheOldLayout) {
+  const RunResult r =
+      runProgram(ES_INFO_BIN, {test::dataPath("octomap_masses_v1.evidential.ot")}, scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("EvidentialOcTree (layout 1), resolution 0.05 m"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("4 voxels in 1 height layer(s)"), std::string::npos) << r.out;
+  // No anomaly row, and the reason.
+  EXPECT_EQ(r.out.find("\nanomaly  "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("anomaly:     not in this file (layout 1"), std::string::npos) << r.out;
+  // m(o) over the four voxels: 0.5, 0, 0.125 e^-1.5, e^-0.25 -> max 0.778801.
+  EXPECT_NE(r.out.find("\noccupied                 0.000000"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0.778801\n"), std::string::npos) << r.out;
 }
 
 TEST_F(OctomapTools, InfoToolErrors) {
@@ -224,11 +255,43 @@ TEST(OctomapOffline, ExportOctomapWritesThreeFilesThatReadBackIdentically) {
       {(out / "octomap/map.evidential.ot").string(), "--compare-layers", (out / "layers").string()},
       scratch);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("result:      identical masses"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("result:      identical masses and anomaly"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" 0 missing, 0 extra"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(std::to_string(o["voxels"].get<uint64_t>()) + " voxels vs"),
             std::string::npos)
       << r.out;
+  // The anomaly of layers/anomaly.npy is in the export too, on every voxel.
+  EXPECT_NE(r.out.find("max |diff| anomaly 0 bits"), std::string::npos) << r.out;
+  std::smatch anomaly;
+  ASSERT_TRUE(std::regex_search(r.out, anomaly, std::regex("anomaly: +(\\d+) voxels with")))
+      << r.out;
+  EXPECT_GT(std::stoul(anomaly[1].str()), 0u) << "the run has no anomaly to compare";
+  std::printf("offline export: %s voxels with an anomaly\n", anomaly[1].str().c_str());
+
+  {  // One observed cell's anomaly changed in layers/: the comparison sees it.
+    NpyArray observed, anomaly_npy;
+    std::string error;
+    ASSERT_TRUE(readNpy((out / "layers/observed.npy").string(), &observed, &error)) << error;
+    ASSERT_TRUE(readNpy((out / "layers/anomaly.npy").string(), &anomaly_npy, &error)) << error;
+    const std::vector<uint8_t> seen_cells = observed.asUint8();
+    std::vector<float> bits = anomaly_npy.asFloat32();
+    const size_t cell = std::find(seen_cells.begin(), seen_cells.end(), 1) - seen_cells.begin();
+    ASSERT_LT(cell, bits.size());
+    bits[cell] += 0.5f;
+    const fs::path changed = scratch / "changed_layers";
+    fs::copy(out / "layers", changed);
+    ASSERT_TRUE(writeNpy((changed / "anomaly.npy").string(), bits.data(),
+                         static_cast<int>(anomaly_npy.shape[0]),
+                         static_cast<int>(anomaly_npy.shape[1]), &error))
+        << error;
+    const RunResult d = runProgram(
+        ES_INFO_BIN,
+        {(out / "octomap/map.evidential.ot").string(), "--compare-layers", changed.string()},
+        scratch);
+    EXPECT_EQ(d.exit_code, 3) << d.out << d.err;
+    EXPECT_NE(d.out.find("max |diff| anomaly 0.5 bits"), std::string::npos) << d.out;
+    EXPECT_NE(d.out.find("result:      DIFFERENT masses and anomaly"), std::string::npos) << d.out;
+  }
 
   if (std::string(ES_BT2VRML).empty()) FAIL() << "bt2vrml not found (octomap-tools)";
   r = runProgram(ES_BT2VRML, {(out / "octomap/map.bt").string()}, scratch);
@@ -251,7 +314,7 @@ TEST(OctomapOffline, CompareLayersDetectsADifferentMap) {
       {(a / "octomap/map.evidential.ot").string(), "--compare-layers", (b / "layers").string()},
       scratch);
   EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
-  EXPECT_NE(r.out.find("MASSES DIFFER"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("DIFFERENT masses"), std::string::npos) << r.out;
 }
 
 TEST(OctomapOffline, SlabHeightsAndUnwritableOutput) {

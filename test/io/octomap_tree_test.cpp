@@ -12,6 +12,7 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 #include "child_process.h"
 #include "evidential_slam/core/measures.h"
@@ -50,15 +51,18 @@ std::unique_ptr<EvidentialOcTree> readOrDie(const std::string& path) {
 
 // ---- node and tree --------------------------------------------------------------------------
 
-TEST(EvidentialOcTreeNode, PayloadIsSixteenBytesAndRoundTrips) {
+TEST(EvidentialOcTreeNode, PayloadIsTwentyBytesWithTheAnomalyAndRoundTrips) {
   EvidentialOcTreeNode node;
   node.setCell(Cell::fromStored(0.6f, 0.1f, 0.3f));
+  node.setAnomaly(2.75f);
   std::ostringstream out;
   node.writeData(out);
   const std::string bytes = out.str();
-  ASSERT_EQ(bytes.size(), EvidentialOcTreeNode::kPayloadBytes);
-  float v[4];
+  ASSERT_EQ(bytes.size(), 20u);
+  ASSERT_EQ(EvidentialOcTreeNode::payloadBytes(EvidentialLayout::kMassesAnomaly), 20u);
+  float v[5];
   std::memcpy(v, bytes.data(), sizeof(v));
+  EXPECT_EQ(v[4], 2.75f);
   EXPECT_EQ(v[0], occupancyLogOdds(node.cell()));
   // The cell's stored values (quantised: m̃ in steps of 2^-23, λ a half float).
   EXPECT_EQ(v[1], node.cell().occupied());
@@ -72,9 +76,31 @@ TEST(EvidentialOcTreeNode, PayloadIsSixteenBytesAndRoundTrips) {
   EvidentialOcTreeNode back;
   ASSERT_TRUE(back.readData(in));
   EXPECT_TRUE(back == node);
+  EXPECT_EQ(back.anomaly(), 2.75f);
   EXPECT_FLOAT_EQ(back.getLogOdds(), node.getLogOdds());
 }
 
+TEST(EvidentialOcTreeNode, LayoutOneIsSixteenBytesWithoutTheAnomaly) {
+  EvidentialOcTreeNode node;
+  node.setCell(Cell::fromStored(0.5f, 0.25f, 1.5f));
+  node.setAnomaly(4.0f);
+  std::ostringstream out;
+  node.writeData(out, EvidentialLayout::kMasses);
+  const std::string bytes = out.str();
+  ASSERT_EQ(bytes.size(), 16u);
+  ASSERT_EQ(EvidentialOcTreeNode::payloadBytes(EvidentialLayout::kMasses), 16u);
+  float v[4];
+  std::memcpy(v, bytes.data(), sizeof(v));
+  EXPECT_EQ(v[1], 0.5f);
+  EXPECT_EQ(v[2], 0.25f);
+  EXPECT_EQ(v[3], 1.5f);
+  std::istringstream in(bytes);
+  EvidentialOcTreeNode back;
+  ASSERT_TRUE(back.readData(in, EvidentialLayout::kMasses));
+  EXPECT_TRUE(back.cell() == node.cell());
+  EXPECT_EQ(back.anomaly(), 0.0f);  // layout 1 holds none
+  EXPECT_EQ(in.peek(), std::char_traits<char>::eof());
+}
 TEST(EvidentialOcTreeNode, ValueIsTheLogOddsOfBetP) {
   EXPECT_EQ(occupancyLogOdds(Cell{}), 0.0f);  // vacuous: BetP 0.5
   const Cell wall = Cell::fromStored(0.9f, 0.05f, 0.0f);
@@ -98,9 +124,24 @@ TEST(EvidentialOcTreeNode, ReadRejectsValuesNoGridCanHold) {
   for (const auto& v : bad) {
     std::istringstream in(std::string(reinterpret_cast<const char*>(v.data()), sizeof(v)));
     EvidentialOcTreeNode node;
-    node.readData(in);
+    node.readData(in, EvidentialLayout::kMasses);
     EXPECT_TRUE(in.fail()) << v[0] << " " << v[1] << " " << v[2] << " " << v[3];
     EXPECT_FALSE(in.eof());
+  }
+  // Layout 2: the same masses are fine, the anomaly must be finite and >= 0.
+  for (float anomaly : {nan, inf, -inf, -0.5f}) {
+    const float v[5] = {0.0f, 0.5f, 0.1f, 0.0f, anomaly};
+    std::istringstream in(std::string(reinterpret_cast<const char*>(v), sizeof(v)));
+    EvidentialOcTreeNode node;
+    node.readData(in);
+    EXPECT_TRUE(in.fail()) << anomaly;
+    EXPECT_FALSE(in.eof());
+  }
+  {
+    const float v[5] = {0.0f, 0.5f, 0.1f, 0.0f, 0.0f};
+    std::istringstream in(std::string(reinterpret_cast<const char*>(v), sizeof(v)));
+    EvidentialOcTreeNode node;
+    EXPECT_TRUE(node.readData(in));
   }
   std::istringstream short_in(std::string(10, '\0'));
   EvidentialOcTreeNode node;
@@ -110,12 +151,13 @@ TEST(EvidentialOcTreeNode, ReadRejectsValuesNoGridCanHold) {
 }
 
 // Fills the 8 finest voxels under one parent.
-void fillOctant(EvidentialOcTree* tree, const std::array<Cell, 8>& cells) {
+void fillOctant(EvidentialOcTree* tree, const std::array<Cell, 8>& cells,
+                const std::array<float, 8>& anomaly = {}) {
   for (int i = 0; i < 8; ++i) {
     const OcTreeKey key(static_cast<uint16_t>(32768 + (i & 1)),
                         static_cast<uint16_t>(32768 + ((i >> 1) & 1)),
                         static_cast<uint16_t>(32768 + ((i >> 2) & 1)));
-    ASSERT_NE(tree->setNodeCell(key, cells[i]), nullptr);
+    ASSERT_NE(tree->setNodeCell(key, cells[i], anomaly[i]), nullptr);
   }
   tree->updateInnerNodes();
 }
@@ -156,6 +198,42 @@ TEST(EvidentialOcTree, PrunesOnlyChildrenWithEqualMasses) {
   EXPECT_EQ(lambda_differs.getNumLeafNodes(), 8u);
 }
 
+TEST(EvidentialOcTree, PrunesOnlyChildrenWithEqualAnomaly) {
+  std::array<Cell, 8> cells;
+  cells.fill(Cell::fromStored(0.0f, 0.8f, 0.0f));
+  std::array<float, 8> anomaly;
+  anomaly.fill(1.5f);
+  EvidentialOcTree same(0.05);
+  fillOctant(&same, cells, anomaly);
+  same.prune();
+  EXPECT_EQ(same.getNumLeafNodes(), 1u);
+  // The pruned leaf stands for eight voxels of 1.5 bits each.
+  EXPECT_EQ(same.search(OcTreeKey(32768, 32769, 32768))->anomaly(), 1.5f);
+  anomaly[5] = 1.25f;
+  EvidentialOcTree differ(0.05);
+  fillOctant(&differ, cells, anomaly);
+  differ.prune();
+  EXPECT_EQ(differ.getNumLeafNodes(), 8u);
+}
+
+TEST(EvidentialOcTree, InnerNodesCarryTheLargestAnomalyBelow) {
+  // The most occupied child (3) holds no anomaly; the largest (6: 2.5 bits) is in a free one.
+  std::array<Cell, 8> cells;
+  cells.fill(Cell::fromStored(0.0f, 0.8f, 0.0f));
+  cells[3] = Cell::fromStored(0.7f, 0.1f, 0.2f);
+  const std::array<float, 8> anomaly = {0.0f, 0.5f, 0.0f, 0.0f, 1.0f, 0.0f, 2.5f, 0.0f};
+  EvidentialOcTree tree(0.05);
+  fillOctant(&tree, cells, anomaly);
+  size_t inner = 0;
+  for (auto it = tree.begin_tree(), end = tree.end_tree(); it != end; ++it) {
+    if (it.isLeaf()) continue;
+    ++inner;
+    EXPECT_EQ(it->anomaly(), 2.5f) << "depth " << it.getDepth();
+    EXPECT_TRUE(it->cell() == cells[3]);
+  }
+  EXPECT_EQ(inner, 16u);  // root to the octant's parent
+}
+
 TEST(EvidentialOcTree, InnerNodesCarryTheirMostOccupiedChild) {
   std::array<Cell, 8> cells;
   cells.fill(Cell::fromStored(0.0f, 0.8f, 0.0f));
@@ -175,7 +253,10 @@ TEST(EvidentialOcTree, InnerNodesCarryTheirMostOccupiedChild) {
 void expectRoundTrip(const EvidentialGridMap& grid, const OctomapExportConfig& config,
                      int expected_layers, const fs::path& dir) {
   OctomapExportResult result;
-  const std::string prefix = exportGrid(grid, dir, config, &result);
+  const AnomalyGrid anomaly = test::makeTestAnomaly();
+  std::string error;
+  const std::string prefix = (dir / "map").string();
+  ASSERT_TRUE(exportOctomap(grid, anomaly, config, prefix, &result, &error)) << error;
   const auto cells = test::observedCells(grid);
   ASSERT_GT(cells.size(), 2500u);
   EXPECT_EQ(result.z_layers, expected_layers);
@@ -192,8 +273,10 @@ void expectRoundTrip(const EvidentialGridMap& grid, const OctomapExportConfig& c
 
   const auto tree = readOrDie(prefix + ".evidential.ot");
   ASSERT_TRUE(tree);
+  EXPECT_EQ(tree->layout(), EvidentialLayout::kMassesAnomaly);
   EXPECT_DOUBLE_EQ(tree->getResolution(), grid.resolution());
   EXPECT_EQ(tree->size(), result.files[0].nodes);
+  size_t anomaly_voxels = 0;
   octomap::key_type kz0 = 0;
   ASSERT_TRUE(tree->coordToKeyChecked(config.z_min, kz0));
   size_t mismatches = 0;
@@ -213,8 +296,12 @@ void expectRoundTrip(const EvidentialGridMap& grid, const OctomapExportConfig& c
         max_diff = std::max(max_diff, std::abs(d));
       }
       EXPECT_FLOAT_EQ(node->getLogOdds(), occupancyLogOdds(o.cell));
+      // The anomaly, bit for bit.
+      EXPECT_EQ(node->anomaly(), anomaly.at(o.index.x, o.index.y));
+      anomaly_voxels += node->anomaly() > 0.0f;
     }
   }
+  EXPECT_EQ(anomaly_voxels, static_cast<size_t>(test::kTestAnomalyObservedCells) * expected_layers);
   EXPECT_EQ(mismatches, 0u);
   EXPECT_LE(max_diff, 1e-7);
   // No voxel outside the observed cells of the slab.
@@ -263,15 +350,110 @@ TEST(OctomapExport, OctomapsOwnFactoryRecreatesTheTree) {
   std::unique_ptr<octomap::AbstractOcTree> base(
       octomap::AbstractOcTree::read(prefix + ".evidential.ot"));
   ASSERT_TRUE(base);
-  EXPECT_EQ(base->getTreeType(), "EvidentialOcTree");
+  EXPECT_EQ(base->getTreeType(), "EvidentialAnomalyOcTree");
   auto* tree = dynamic_cast<EvidentialOcTree*>(base.get());
   ASSERT_NE(tree, nullptr);
+  EXPECT_EQ(tree->layout(), EvidentialLayout::kMassesAnomaly);
   const auto checked = readOrDie(prefix + ".evidential.ot");
   ASSERT_EQ(tree->size(), checked->size());
   std::ostringstream a, b;
   tree->writeData(a);
   checked->writeData(b);
   EXPECT_EQ(a.str(), b.str());
+}
+
+// Layout 2 with hand-chosen values: two cells, one slab layer; every float of the file checked.
+TEST(OctomapExport, MassesAndAnomalyRoundTripExactly) {
+  EvidentialGridMap grid(0.05);
+  grid.mutableCell(0, 0) = Cell::fromStored(0.5f, 0.25f, 0.0f);
+  grid.mutableCell(1, 0) = Cell::fromStored(0.0f, 0.75f, 0.5f);
+  AnomalyGrid anomaly;
+  anomaly.add(1, 0, 3.25f);
+  anomaly.add(1, 0, 0.5f);  // accumulated: 3.75 bits
+  const fs::path dir = test::scratchDir();
+  OctomapExportResult result;
+  std::string error;
+  ASSERT_TRUE(
+      exportOctomap(grid, anomaly, OctomapExportConfig(), (dir / "map").string(), &result, &error))
+      << error;
+  const std::string file = test::readText(dir / "map.evidential.ot");
+  EXPECT_NE(file.find("\nid EvidentialAnomalyOcTree\n"), std::string::npos);
+  const auto tree = readOrDie((dir / "map.evidential.ot").string());
+  ASSERT_TRUE(tree);
+  const EvidentialOcTreeNode* a = tree->search(keyOf({0, 0}));
+  const EvidentialOcTreeNode* b = tree->search(keyOf({1, 0}));
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  // (0, 0): m(o) = 0.5, m(e) = 0.25, m(Θ) = 0.25, no conflict, no anomaly.
+  EXPECT_EQ(a->mass().occupied, 0.5);
+  EXPECT_EQ(a->mass().free, 0.25);
+  EXPECT_EQ(a->mass().unknown, 0.25);
+  EXPECT_EQ(a->mass().conflict, 0.0);
+  EXPECT_EQ(a->anomaly(), 0.0f);
+  // (1, 0): λ = 0.5: m(∅) = 1 - e^-0.5 = 0.39346934, m(e) = 0.75 e^-0.5 = 0.45489799,
+  // m(Θ) = 0.25 e^-0.5 = 0.15163266; 3.75 bits.
+  EXPECT_NEAR(b->mass().conflict, 0.39346934, 1e-8);
+  EXPECT_EQ(b->mass().occupied, 0.0);
+  EXPECT_NEAR(b->mass().free, 0.45489799, 1e-8);
+  EXPECT_NEAR(b->mass().unknown, 0.15163266, 1e-8);
+  EXPECT_EQ(b->anomaly(), 3.75f);
+  // The last node written is (1, 0)'s voxel: its five floats, then no children.
+  ASSERT_GE(file.size(), 21u);
+  float v[5];
+  std::memcpy(v, file.data() + file.size() - 21, sizeof(v));
+  EXPECT_EQ(v[1], 0.0f);
+  EXPECT_EQ(v[2], 0.75f);
+  EXPECT_EQ(v[3], 0.5f);
+  EXPECT_EQ(v[4], 3.75f);
+  EXPECT_EQ(file.back(), '\0');
+  // The root: the most occupied child's masses ((0, 0)), the largest anomaly below.
+  EXPECT_TRUE(tree->getRoot()->cell() == grid.cell(0, 0));
+  EXPECT_EQ(tree->getRoot()->anomaly(), 3.75f);
+}
+
+// test/data/octomap_masses_v1.evidential.ot was written by the exporter's tree before the anomaly
+// was exported (layout 1, id EvidentialOcTree): four cells at 0.05 m, one layer, with
+// (m̃(o), m̃(e), λ) = (0,0): (0.5, 0.25, 0), (1,0): (0, 0.75, 0.5), (-2,3): (0.125, 0.375, 1.5),
+// (5,-4): (1, 0, 0.25).
+TEST(OctomapExport, FilesOfTheOldLayoutStillLoad) {
+  const std::string path = test::dataPath("octomap_masses_v1.evidential.ot");
+  const auto tree = readOrDie(path);
+  ASSERT_TRUE(tree);
+  EXPECT_EQ(tree->layout(), EvidentialLayout::kMasses);
+  EXPECT_EQ(tree->getTreeType(), "EvidentialOcTree");
+  EXPECT_DOUBLE_EQ(tree->getResolution(), 0.05);
+  EXPECT_EQ(tree->getNumLeafNodes(), 4u);
+  struct Expected {
+    CellIndex index;
+    double conflict, occupied, free, unknown;
+  };
+  // m(∅) = 1 - e^-λ, m(X) = e^-λ m̃(X).
+  const Expected expected[] = {
+      {{0, 0}, 0.0, 0.5, 0.25, 0.25},
+      {{1, 0}, 0.39346934, 0.0, 0.45489799, 0.15163266},
+      {{-2, 3}, 0.77686984, 0.02789127, 0.08367381, 0.11156508},
+      {{5, -4}, 0.22119922, 0.77880078, 0.0, 0.0},
+  };
+  for (const Expected& e : expected) {
+    const EvidentialOcTreeNode* node = tree->search(keyOf(e.index));
+    ASSERT_NE(node, nullptr) << e.index.x << "," << e.index.y;
+    const Mass m = node->mass();
+    EXPECT_NEAR(m.conflict, e.conflict, 1e-8) << e.index.x << "," << e.index.y;
+    EXPECT_NEAR(m.occupied, e.occupied, 1e-8) << e.index.x << "," << e.index.y;
+    EXPECT_NEAR(m.free, e.free, 1e-8) << e.index.x << "," << e.index.y;
+    EXPECT_NEAR(m.unknown, e.unknown, 1e-8) << e.index.x << "," << e.index.y;
+    EXPECT_EQ(node->anomaly(), 0.0f);
+  }
+  // Written back in its own layout, the file is unchanged byte for byte.
+  std::ostringstream out;
+  tree->write(out);
+  EXPECT_EQ(out.str(), test::readText(path));
+  // OctoMap's own factory finds the old type too.
+  std::unique_ptr<octomap::AbstractOcTree> base(octomap::AbstractOcTree::read(path));
+  auto* via_factory = dynamic_cast<EvidentialOcTree*>(base.get());
+  ASSERT_NE(via_factory, nullptr);
+  EXPECT_EQ(via_factory->layout(), EvidentialLayout::kMasses);
+  EXPECT_EQ(via_factory->size(), tree->size());
 }
 
 TEST(OctomapExport, GenericOctomapCodeWorksOnTheTree) {
@@ -442,14 +624,16 @@ void expectError(const std::string& bytes, const std::string& phrase) {
   EXPECT_NE(r.error.find(phrase), std::string::npos) << "error: " << r.error;
 }
 
-// A small valid file: 3 cells, one layer.
-std::string smallFile() {
+// A small valid file: 3 cells, one layer, one of them with an anomaly (in layout 2).
+std::string smallFile(EvidentialLayout layout = kLatestEvidentialLayout) {
   EvidentialGridMap grid(0.05);
   updateCell(grid.mutableCell(0, 0), ScanMass{0.0f, 0.8f});
   updateCell(grid.mutableCell(1, 0), ScanMass{0.63f, 0.0f});
   updateCell(grid.mutableCell(-1, 3), ScanMass{0.2f, 0.3f});
-  EvidentialOcTree tree(0.05);
-  for (const auto& o : test::observedCells(grid)) tree.setNodeCell(keyOf(o.index), o.cell);
+  EvidentialOcTree tree(0.05, layout);
+  for (const auto& o : test::observedCells(grid)) {
+    tree.setNodeCell(keyOf(o.index), o.cell, o.index.x == 1 ? 1.5f : 0.0f);
+  }
   tree.updateInnerNodes();
   std::ostringstream out;
   tree.write(out);
@@ -459,19 +643,30 @@ std::string smallFile() {
 size_t dataOffset(const std::string& file) { return file.find("data\n") + 5; }
 
 TEST(EvidentialOctreeReader, SmallFileIsValid) {
-  const std::string file = smallFile();
-  EXPECT_TRUE(readBytes(file).ok);
-  EXPECT_NE(file.find("id EvidentialOcTree\n"), std::string::npos);
-  // OctoMap writes every node's payload plus one child byte.
-  const auto tree = [&] {
-    std::istringstream in(file);
-    std::unique_ptr<EvidentialOcTree> t;
-    std::string error;
-    EXPECT_TRUE(readEvidentialOctree(in, "small", &t, &error)) << error;
-    return t;
-  }();
-  ASSERT_TRUE(tree);
-  EXPECT_EQ(file.size() - dataOffset(file), tree->size() * 17);
+  for (const auto& [layout, id, node_bytes] :
+       {std::make_tuple(EvidentialLayout::kMassesAnomaly, "EvidentialAnomalyOcTree", 21u),
+        std::make_tuple(EvidentialLayout::kMasses, "EvidentialOcTree", 17u)}) {
+    const std::string file = smallFile(layout);
+    EXPECT_TRUE(readBytes(file).ok);
+    EXPECT_NE(file.find(std::string("id ") + id + "\n"), std::string::npos);
+    // OctoMap writes every node's payload plus one child byte.
+    const auto tree = [&] {
+      std::istringstream in(file);
+      std::unique_ptr<EvidentialOcTree> t;
+      std::string error;
+      EXPECT_TRUE(readEvidentialOctree(in, "small", &t, &error)) << error;
+      return t;
+    }();
+    ASSERT_TRUE(tree);
+    EXPECT_EQ(tree->layout(), layout);
+    EXPECT_EQ(file.size() - dataOffset(file), tree->size() * node_bytes);
+    // The header's id decides the layout: the other id misreads the nodes and is refused.
+    std::string swapped = file;
+    const std::string other =
+        layout == EvidentialLayout::kMasses ? "EvidentialAnomalyOcTree" : "EvidentialOcTree";
+    swapped.replace(swapped.find(id), std::string(id).size(), other);
+    EXPECT_FALSE(readBytes(swapped).ok) << id;
+  }
 }
 
 TEST(EvidentialOctreeReader, MissingEmptyAndDirectory) {
@@ -504,12 +699,13 @@ TEST(EvidentialOctreeReader, OtherTreeTypesAreRejectedByName) {
   const fs::path dir = test::scratchDir();
   const std::string prefix = exportGrid(test::makeTestGrid(), dir);
   expectError(test::readText(prefix + ".bt"), "binary OctoMap file");
-  expectError(test::readText(prefix + ".color.ot"), "'ColorOcTree', not an 'EvidentialOcTree'");
+  expectError(test::readText(prefix + ".color.ot"),
+              "'ColorOcTree', not an 'EvidentialAnomalyOcTree' or 'EvidentialOcTree'");
   octomap::OcTree plain(0.05);
   plain.updateNode(octomap::point3d(0.1f, 0.1f, 0.1f), true);
   std::ostringstream out;
   plain.write(out);
-  expectError(out.str(), "'OcTree', not an 'EvidentialOcTree'");
+  expectError(out.str(), "'OcTree', not an 'EvidentialAnomalyOcTree' or 'EvidentialOcTree'");
 }
 
 TEST(EvidentialOctreeReader, EveryTruncationIsAnError) {
@@ -535,8 +731,14 @@ TEST(EvidentialOctreeReader, CorruptDataIsNamed) {
   {  // m~(o) + m~(e) > 1 in the last node
     std::string bad = file;
     const float big = 0.9f;
-    std::memcpy(&bad[bad.size() - 17 + 4], &big, 4);
-    std::memcpy(&bad[bad.size() - 17 + 8], &big, 4);
+    std::memcpy(&bad[bad.size() - 21 + 4], &big, 4);
+    std::memcpy(&bad[bad.size() - 21 + 8], &big, 4);
+    expectError(bad, "no grid can hold");
+  }
+  {  // a negative anomaly in the last node
+    std::string bad = file;
+    const float negative = -1.0f;
+    std::memcpy(&bad[bad.size() - 21 + 16], &negative, 4);
     expectError(bad, "no grid can hold");
   }
   expectError(file + "x", "after the last node");

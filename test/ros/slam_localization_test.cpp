@@ -1,21 +1,28 @@
-// rostest for mode localization (slam_localization.test): the node serves the stored map and
-// leaves it as it is, its ~pose follows the truth where the map covers the log, ~layers/anomaly comes against the stored
-// map, /initialpose moves the cloud to the given pose and spread, ~global_localization spreads
-// max_particles over the map.
+// rostest for mode localization (slam_localization.test): the node serves the stored map once and
+// leaves it as it is, its ~pose follows the truth where the map covers the log, map->odom composed
+// with the odometry gives ~pose and is post-dated by transform_tolerance, ~layers/anomaly comes
+// against the stored map at every map update, /initialpose moves the cloud to the given pose and
+// spread, ~global_localization spreads max_particles over the map.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <rosgraph_msgs/Clock.h>
 #include <std_msgs/Bool.h>
 #include <std_srvs/Empty.h>
+#include <tf2_msgs/TFMessage.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/io/ground_truth.h"
@@ -31,13 +38,32 @@ struct Seen {
   nav_msgs::OccupancyGrid::ConstPtr first_map;
   nav_msgs::OccupancyGrid::ConstPtr last_map;
   int maps = 0;
+  int occupied_layers = 0;  // ~layers/occupied messages
+  int anomaly_layers = 0;   // ~layers/anomaly messages
   nav_msgs::OccupancyGrid::ConstPtr anomaly;
+  // Receipt order of ~pose and map->odom messages, to pair each pose with the next broadcast.
+  uint64_t received = 0;
+  struct ReceivedPose {
+    uint64_t order;
+    ros::Time stamp;
+    Pose2 pose;
+  };
+  struct Broadcast {
+    uint64_t order;
+    ros::Time stamp;
+    ros::Time now;  // the test's ROS (simulated) time on receipt
+    Pose2 map_to_odom;
+  };
+  std::vector<ReceivedPose> pose_log;
+  std::vector<Broadcast> broadcasts;
+  std::set<uint64_t> clock_ns;    // every /clock time (ns)
   std::map<double, Pose2> poses;  // ~pose by stamp
   geometry_msgs::PoseWithCovarianceStamped::ConstPtr last_pose;
   geometry_msgs::PoseArray::ConstPtr particles;
   bool done = false;
 };
 Seen* seen = nullptr;
+tf2_ros::Buffer* tf_buffer = nullptr;  // odom->base_link from the player, since the start
 
 std::string param(const std::string& name) {
   std::string value;
@@ -99,12 +125,82 @@ TEST(SlamLocalization, FollowsTheTruthOnTheMap) {
               worst, compared);
   RecordProperty("rmse_position_error_m", std::to_string(rmse));
   RecordProperty("worst_position_error_m", std::to_string(worst));
-  // The scans leave the map as it was (mapping would have changed it by now).
-  EXPECT_GT(seen->maps, 1);
+  // The scans leave the map as it was, and it is sent once (latched): not again at every map
+  // update, though the anomaly layer is.
+  EXPECT_EQ(seen->maps, 1);
+  EXPECT_EQ(seen->occupied_layers, 1);
+  EXPECT_GE(seen->anomaly_layers, 5) << "~layers/anomaly is not published at the interval";
+  std::printf("over the mapped scans: %d /map, %d ~layers/occupied, %d ~layers/anomaly messages\n",
+              seen->maps, seen->occupied_layers, seen->anomaly_layers);
   EXPECT_EQ(seen->last_map->data, seen->first_map->data);
   ASSERT_TRUE(seen->anomaly != nullptr) << "no ~layers/anomaly";
   EXPECT_EQ(seen->anomaly->info.width, seen->first_map->info.width);
   EXPECT_EQ(seen->anomaly->info.height, seen->first_map->info.height);
+}
+
+// Each map->odom broadcast, composed with odom->base_link at a ~pose's stamp, gives that ~pose: the
+// first broadcast received after the pose carries the correction of its scan. The broadcast is
+// stamped transform_tolerance after the time it was sent.
+TEST(SlamLocalization, MapToOdomComposedWithOdometryIsThePose) {
+  double tolerance = 0.0;
+  ASSERT_TRUE(ros::param::get("/evidential_slam/transform_tolerance", tolerance));
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [] { return seen->pose_log.size() >= 40; }, 60.0));
+  std::vector<Seen::ReceivedPose> poses;
+  std::vector<Seen::Broadcast> broadcasts;
+  {
+    std::lock_guard<std::mutex> lock(seen->mutex);
+    poses = seen->pose_log;
+    broadcasts = seen->broadcasts;
+  }
+  ASSERT_GE(broadcasts.size(), 40u);
+  // Post-dated: the stamp is a /clock time (the sender's now) plus exactly the tolerance, which
+  // is no multiple of the clock step; and about the tolerance ahead of the receiver's clock,
+  // which lags or leads the sender's by a few clock steps (0.01 s).
+  double lo = 1e9, hi = -1e9;
+  size_t on_clock = 0;
+  {
+    std::lock_guard<std::mutex> lock(seen->mutex);
+    for (const auto& b : broadcasts) {
+      const double ahead = (b.stamp - b.now).toSec();
+      lo = std::min(lo, ahead);
+      hi = std::max(hi, ahead);
+      on_clock += seen->clock_ns.count((b.stamp - ros::Duration(tolerance)).toNSec());
+    }
+  }
+  EXPECT_EQ(on_clock, broadcasts.size());
+  EXPECT_GT(lo, tolerance - 0.06);
+  EXPECT_LT(hi, tolerance + 0.06);
+  std::printf(
+      "map->odom: %zu of %zu stamps are a /clock time + %.4f s; stamp - receipt time %.3f .. "
+      "%.3f s\n",
+      on_clock, broadcasts.size(), tolerance, lo, hi);
+
+  int compared = 0;
+  double worst_d = 0.0, worst_a = 0.0;
+  for (size_t i = 0; i + 1 < poses.size(); ++i) {
+    const auto next = std::find_if(broadcasts.begin(), broadcasts.end(),
+                                   [&](const auto& b) { return b.order > poses[i].order; });
+    if (next == broadcasts.end() || next->order > poses[i + 1].order) continue;
+    geometry_msgs::TransformStamped odom_base;
+    try {
+      odom_base = tf_buffer->lookupTransform("odom", "base_link", poses[i].stamp);
+    } catch (const tf2::TransformException&) {
+      continue;
+    }
+    const Pose2 composed =
+        next->map_to_odom.compose(ros_adapter::pose2FromTransform(odom_base.transform));
+    worst_d =
+        std::max(worst_d, std::hypot(composed.x - poses[i].pose.x, composed.y - poses[i].pose.y));
+    worst_a = std::max(worst_a,
+                       std::abs(std::remainder(composed.theta - poses[i].pose.theta, 2.0 * M_PI)));
+    ++compared;
+  }
+  EXPECT_GE(compared, 20);
+  EXPECT_LE(worst_d, 0.01);
+  EXPECT_LE(worst_a, 0.01);
+  std::printf("map->odom o odom->base_link vs ~pose over %d poses: worst %.5f m, %.5f rad\n",
+              compared, worst_d, worst_a);
 }
 
 // /initialpose (after the log) puts the cloud at the given pose with about its covariance.
@@ -151,6 +247,14 @@ TEST(SlamLocalization, GlobalLocalizationSpreadsTheCloud) {
   EXPECT_TRUE(testing_ros::waitUntil(seen->mutex, spread, 10.0));
 }
 
+// Neither /initialpose nor ~global_localization changes the map: /map was still sent only once.
+TEST(SlamLocalization, TheMapIsSentOnlyOnce) {
+  ros::Duration(3.0).sleep();  // three map updates (simulated time runs on after the log)
+  std::lock_guard<std::mutex> lock(seen->mutex);
+  EXPECT_EQ(seen->maps, 1);
+  EXPECT_EQ(seen->occupied_layers, 1);
+}
+
 }  // namespace
 }  // namespace evidential_slam
 
@@ -160,6 +264,9 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   evidential_slam::Seen seen;
   evidential_slam::seen = &seen;
+  tf2_ros::Buffer tf_buffer(ros::Duration(300.0));
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  evidential_slam::tf_buffer = &tf_buffer;
   auto map = nh.subscribe<nav_msgs::OccupancyGrid>(
       "/map", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(seen.mutex);
@@ -171,6 +278,27 @@ int main(int argc, char** argv) {
       "/evidential_slam/layers/anomaly", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(seen.mutex);
         seen.anomaly = m;
+        ++seen.anomaly_layers;
+      });
+  auto clock = nh.subscribe<rosgraph_msgs::Clock>(
+      "/clock", 10000, [&](const rosgraph_msgs::Clock::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(seen.mutex);
+        seen.clock_ns.insert(m->clock.toNSec());
+      });
+  auto occupied = nh.subscribe<nav_msgs::OccupancyGrid>(
+      "/evidential_slam/layers/occupied", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr&) {
+        std::lock_guard<std::mutex> lock(seen.mutex);
+        ++seen.occupied_layers;
+      });
+  auto tf =
+      nh.subscribe<tf2_msgs::TFMessage>("/tf", 100, [&](const tf2_msgs::TFMessage::ConstPtr& m) {
+        for (const auto& t : m->transforms) {
+          if (t.header.frame_id != "map" || t.child_frame_id != "odom") continue;
+          std::lock_guard<std::mutex> lock(seen.mutex);
+          seen.broadcasts.push_back(
+              {++seen.received, t.header.stamp, ros::Time::now(),
+               evidential_slam::ros_adapter::pose2FromTransform(t.transform)});
+        }
       });
   auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
     std::lock_guard<std::mutex> lock(seen.mutex);
@@ -180,9 +308,11 @@ int main(int argc, char** argv) {
       "/evidential_slam/pose", 100,
       [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(seen.mutex);
-        seen.poses[m->header.stamp.toSec()] = evidential_slam::ros_adapter::pose2FromPoseMsg(
-            m->pose.pose);
+        const evidential_slam::Pose2 p =
+            evidential_slam::ros_adapter::pose2FromPoseMsg(m->pose.pose);
+        seen.poses[m->header.stamp.toSec()] = p;
         seen.last_pose = m;
+        seen.pose_log.push_back({++seen.received, m->header.stamp, p});
       });
   auto particles = nh.subscribe<geometry_msgs::PoseArray>(
       "/evidential_slam/particles", 2, [&](const geometry_msgs::PoseArray::ConstPtr& m) {

@@ -72,6 +72,66 @@ TEST(SlamWorker, HandlesScansInOrderAndSharesTheMap) {
   EXPECT_EQ(received, 4u);
 }
 
+// Localization mode: scans leave the stored map as it is, so its version stays (the publisher
+// sends /map once) while the anomaly's moves on; localizing on another map changes the version.
+TEST(SlamWorker, LocalizationScansChangeTheAnomalyNotTheMapVersion) {
+  Recorder rec;
+  SlamWorker worker(smallConfig(), 100, rec.callbacks());
+  for (int i = 0; i < 3; ++i) {
+    const Pose2 odom(0.6 * i, 0.0, 0.0);
+    ASSERT_TRUE(worker.push(odom, roomScan(odom, 10.0 + i)));
+  }
+  worker.waitIdle();
+  EvidentialGridMap map;
+  worker.runOnWorker([&](const MappingSession& s) { map = s.currentMap(); });
+  ASSERT_FALSE(map.observedBox().empty());
+  auto localize = [&](const EvidentialGridMap& on) {
+    bool ok = false;
+    std::string why;
+    LocalizationStart start;
+    start.pose = Pose2(1.2, 0.0, 0.0);
+    start.covariance.diagonal() << 0.01, 0.01, 0.003;
+    worker.changeOnWorker([&](MappingSession& s) { ok = s.startLocalization(on, start, &why); },
+                          true);
+    ASSERT_TRUE(ok) << why;
+  };
+  localize(map);
+  const MapSnapshot first = worker.latestMap();
+  ASSERT_TRUE(first.grid);
+  for (int i = 3; i < 7; ++i) {
+    const Pose2 odom(1.2 + 0.6 * (i - 3), 0.0, 0.0);
+    ASSERT_TRUE(worker.push(odom, roomScan(odom, 10.0 + i)));
+  }
+  worker.waitIdle();
+  const MapSnapshot later = worker.latestMap();
+  EXPECT_EQ(later.version, first.version);
+  EXPECT_EQ(later.grid, first.grid);  // the same copy, not one per scan
+  EXPECT_GE(later.anomaly_version, first.anomaly_version + 2);
+  EXPECT_TRUE(later.anomaly_grid);
+  // /initialpose: the map stays.
+  std::string why;
+  bool ok = false;
+  LocalizationStart start;
+  start.pose = Pose2(1.0, 0.1, 0.0);
+  start.covariance.diagonal() << 0.01, 0.01, 0.003;
+  worker.changeOnWorker([&](MappingSession& s) { ok = s.restartLocalization(start, &why); }, false);
+  ASSERT_TRUE(ok) << why;
+  const Pose2 odom(3.6, 0.0, 0.0);
+  ASSERT_TRUE(worker.push(odom, roomScan(odom, 17.0)));
+  worker.waitIdle();
+  EXPECT_EQ(worker.latestMap().version, first.version);
+  // Another map (equal cells, its own tiles): a new version.
+  EvidentialGridMap other(map.resolution());
+  const CellBox box = map.observedBox();
+  for (int y = box.min_y; y <= box.max_y; ++y) {
+    for (int x = box.min_x; x <= box.max_x; ++x) {
+      if (map.cell(x, y).observed()) other.mutableCell(x, y) = map.cell(x, y);
+    }
+  }
+  localize(other);
+  EXPECT_GT(worker.latestMap().version, first.version);
+}
+
 // Back by less than the tolerance: the scan is dropped. Back by more: an outlier, unless
 // time_jump_scans scans in a row are (a looping bag): then a restart, with a warning.
 TEST(SlamWorker, TimeJumpsRestartOrDrop) {

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <string>
 
+#include "evidential_slam/io/evidential_octree.h"
 #include "evidential_slam/session/map_files.h"
 #include "evidential_slam/session/session.h"
 #include "test_support.h"
@@ -277,6 +279,34 @@ TEST(MappingSession, LocalizationModeUsesTheLocalizerOnAFixedMap) {
   EXPECT_TRUE(r.update.processed);
   EXPECT_FALSE(s.restartLocalization(global, &why));
   EXPECT_EQ(why, "not in localization mode");
+}
+
+// writeMapFiles, which the node's ~save_map and the offline --out both call, exports the saved
+// anomaly with the masses in the OctoMap file.
+TEST(MapFiles, TheOctomapExportCarriesTheAnomaly) {
+  MapSave save;
+  save.map = EvidentialGridMap(0.05);
+  save.map.mutableCell(0, 0) = Cell::fromStored(0.0f, 0.75f, 0.0f);
+  save.map.mutableCell(1, 0) = Cell::fromStored(0.5f, 0.25f, 0.5f);
+  save.anomaly.add(1, 0, 2.5f);
+  SessionConfig config;
+  config.export_octomap = true;
+  const fs::path dir = test::scratchDir();
+  MapFilesReport report;
+  std::string error;
+  ASSERT_TRUE(writeMapFiles(dir.string(), save, config, &report, &error)) << error;
+  ASSERT_TRUE(report.octomap.has_value());
+  std::unique_ptr<io::EvidentialOcTree> tree;
+  ASSERT_TRUE(io::readEvidentialOctree((dir / "octomap/map.evidential.ot").string(), &tree, &error))
+      << error;
+  EXPECT_EQ(tree->layout(), io::EvidentialLayout::kMassesAnomaly);
+  const io::EvidentialOcTreeNode* wall = tree->search(octomap::OcTreeKey(32769, 32768, 32768));
+  const io::EvidentialOcTreeNode* free_cell = tree->search(octomap::OcTreeKey(32768, 32768, 32768));
+  ASSERT_NE(wall, nullptr);
+  ASSERT_NE(free_cell, nullptr);
+  EXPECT_EQ(wall->anomaly(), 2.5f);
+  EXPECT_TRUE(wall->cell() == save.map.cell(1, 0));
+  EXPECT_EQ(free_cell->anomaly(), 0.0f);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Export of an evidential grid to three OctoMap files that others can open:
-//   <prefix>.evidential.ot   EvidentialOcTree (evidential_octree.h): every mass, lossless
+//   <prefix>.evidential.ot   EvidentialOcTree (evidential_octree.h), layout 2: every mass,
+//                            lossless, and each voxel's anomaly (bits)
 //   <prefix>.bt              standard OcTree, binary: occupied where BetP(o) >= 0.5, else free
 //                            (octovis, octomap's tools and any OctoMap user read it)
 //   <prefix>.color.ot        ColorOcTree, value = log-odds BetP(o) and RGB = 255 * (m(o), m(e),
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/evidential_grid.h"
 
 namespace evidential_slam {
@@ -51,11 +53,17 @@ extern const char* const kEvidentialOtSuffix;  // ".evidential.ot"
 extern const char* const kBinarySuffix;        // ".bt"
 extern const char* const kColorOtSuffix;       // ".color.ot"
 
-// Writes the three files (directory must exist). They replace the old ones together once all are
-// written (atomic_files.h): staged into `files` when given (the caller commits), else committed
-// here. False (and a one-line `error`) on a bad config, a map outside OctoMap's key range (±32768
-// cells from the origin), or a file that cannot be written (the old files are then left as they
-// were). Trees are built one at a time to bound memory.
+// Writes the three files (directory must exist); every voxel of the evidential tree carries its
+// cell's anomaly from `anomaly` (0 for cells it does not hold; only observed cells are voxels).
+// They replace the old ones together once all are written (atomic_files.h): staged into `files`
+// when given (the caller commits), else committed here. False (and a one-line `error`) on a bad
+// config, a map outside OctoMap's key range (±32768 cells from the origin), or a file that cannot
+// be written (the old files are then left as they were). Trees are built one at a time to bound
+// memory.
+bool exportOctomap(const EvidentialGridMap& grid, const AnomalyGrid& anomaly,
+                   const OctomapExportConfig& config, const std::string& path_prefix,
+                   OctomapExportResult* result, std::string* error, AtomicFiles* files = nullptr);
+// The same without an anomaly layer (every voxel's anomaly is 0).
 bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& config,
                    const std::string& path_prefix, OctomapExportResult* result, std::string* error,
                    AtomicFiles* files = nullptr);

@@ -1,7 +1,9 @@
 // Turns map snapshots into messages on its own thread: the latched `map` (trinary, as gmapping's:
 // toTrinaryOccupancyGrid) and `map_metadata`, `~grid` (every layer as floats) and one latched
 // OccupancyGrid per layer under `~layers/<name>`. A layer topic is rendered only while someone
-// subscribes to it (and at once for a new subscriber); `~grid` likewise.
+// subscribes to it (and at once for a new subscriber); `~grid` likewise. `map`, `map_metadata`,
+// `~grid` and the mass layers are sent when the map changes (MapSnapshot::version), the anomaly
+// layer also when only the anomaly does (anomaly_version: localization mode, where the map stays).
 #pragma once
 
 #include <array>
@@ -28,7 +30,7 @@ class MapPublisher {
                std::function<MapSnapshot()> source);
   ~MapPublisher();
 
-  // Publishes the latest snapshot if it changed since the last publication (call every
+  // Publishes what changed in the latest snapshot since the last publication (call every
   // map_update_interval). Returns at once; the work happens on the publisher's thread.
   void requestUpdate();
   void setExternalConflictDisplayMax(double bits) { ec_display_max_ = bits; }
@@ -40,7 +42,7 @@ class MapPublisher {
 
  private:
   void run();
-  void publish(const MapSnapshot& snapshot, bool all_layers);
+  void publish(const MapSnapshot& snapshot, bool map_changed, bool anomaly_changed);
 
   ros::Publisher map_pub_, metadata_pub_, grid_pub_;
   std::array<ros::Publisher, kLayerCount> layer_pubs_;
@@ -56,6 +58,7 @@ class MapPublisher {
   bool update_requested_ = false;
   bool stop_ = false;
   uint64_t published_version_ = 0;
+  uint64_t published_anomaly_version_ = 0;
   std::thread thread_;
 };
 

@@ -23,6 +23,9 @@ struct MapSnapshot {
   std::shared_ptr<const EvidentialGridMap> grid;  // null before the first processed scan
   double stamp = 0.0;                             // of the scan that last changed it
   uint64_t version = 0;                           // changes whenever the map does (0: no map)
+  // Changes whenever the anomaly may have: every processed scan, and with `version`. In
+  // localization mode the map stays as it is while this moves on.
+  uint64_t anomaly_version = 0;
   std::shared_ptr<const AnomalyNode> anomaly;      // the best particle's (core/anomaly.h)
   // Localization mode: the anomaly against the stored map (`grid`), instead of `anomaly`.
   std::shared_ptr<const AnomalyGrid> anomaly_grid;

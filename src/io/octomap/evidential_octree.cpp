@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <istream>
@@ -21,7 +20,11 @@ namespace evidential_slam {
 namespace io {
 
 static_assert(sizeof(float) == 4, "the file layout stores float32");
-static_assert(EvidentialOcTreeNode::kPayloadBytes == 4 * sizeof(float), "payload = 4 floats");
+static_assert(EvidentialOcTreeNode::payloadBytes(EvidentialLayout::kMasses) == 4 * sizeof(float),
+              "layout 1 = 4 floats");
+static_assert(EvidentialOcTreeNode::payloadBytes(EvidentialLayout::kMassesAnomaly) ==
+                  5 * sizeof(float),
+              "layout 2 = 5 floats");
 
 namespace {
 
@@ -45,24 +48,29 @@ bool isValidStoredCell(float occupied, float free, float lambda) {
 
 // ---- node ---------------------------------------------------------------------------------------
 
-std::istream& EvidentialOcTreeNode::readData(std::istream& s) {
-  float v[4];
-  s.read(reinterpret_cast<char*>(v), sizeof(v));
+std::istream& EvidentialOcTreeNode::readData(std::istream& s, EvidentialLayout layout) {
+  float v[5] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  s.read(reinterpret_cast<char*>(v), static_cast<std::streamsize>(payloadBytes(layout)));
   if (!s) return s;  // short read: eofbit and failbit are set
   value = v[0];
-  if (!std::isfinite(value) || !isValidStoredCell(v[1], v[2], v[3])) {
+  // The masses and the anomaly are kept only when valid (cell() rounds them to a grid's storage,
+  // which needs finite values).
+  if (!std::isfinite(value) || !isValidStoredCell(v[1], v[2], v[3]) || !std::isfinite(v[4]) ||
+      v[4] < 0.0f) {
     s.setstate(std::ios::failbit);
     return s;
   }
   occupied_ = v[1];
   free_ = v[2];
   lambda_ = v[3];
+  anomaly_ = v[4];
   return s;
 }
 
-std::ostream& EvidentialOcTreeNode::writeData(std::ostream& s) const {
-  const float v[4] = {value, occupied_, free_, lambda_};
-  return s.write(reinterpret_cast<const char*>(v), sizeof(v));
+std::ostream& EvidentialOcTreeNode::writeData(std::ostream& s, EvidentialLayout layout) const {
+  const float v[5] = {value, occupied_, free_, lambda_, anomaly_};
+  return s.write(reinterpret_cast<const char*>(v),
+                 static_cast<std::streamsize>(payloadBytes(layout)));
 }
 
 Mass EvidentialOcTreeNode::mass() const {
@@ -74,32 +82,55 @@ Mass EvidentialOcTreeNode::mass() const {
 // ---- tree ---------------------------------------------------------------------------------------
 
 const std::string EvidentialOcTree::kTreeType = "EvidentialOcTree";
+const std::string EvidentialOcTree::kAnomalyTreeType = "EvidentialAnomalyOcTree";
+
+const std::string& EvidentialOcTree::treeTypeOf(EvidentialLayout layout) {
+  return layout == EvidentialLayout::kMasses ? kTreeType : kAnomalyTreeType;
+}
+
+bool EvidentialOcTree::layoutOf(const std::string& tree_type, EvidentialLayout* layout) {
+  for (EvidentialLayout l : {EvidentialLayout::kMasses, EvidentialLayout::kMassesAnomaly}) {
+    if (tree_type == treeTypeOf(l)) {
+      *layout = l;
+      return true;
+    }
+  }
+  return false;
+}
 
 EvidentialOcTree::StaticMemberInitializer::StaticMemberInitializer() {
-  auto* prototype = new EvidentialOcTree(0.1);  // owned by OctoMap's factory for the process
-  prototype->clearKeyRays();
-  AbstractOcTree::registerTreeType(prototype);
+  // One prototype per layout, owned by OctoMap's factory for the process.
+  for (EvidentialLayout l : {EvidentialLayout::kMasses, EvidentialLayout::kMassesAnomaly}) {
+    auto* prototype = new EvidentialOcTree(0.1, l);
+    prototype->clearKeyRays();
+    AbstractOcTree::registerTreeType(prototype);
+  }
 }
 
 EvidentialOcTree::StaticMemberInitializer EvidentialOcTree::registration_;
 
-EvidentialOcTree::EvidentialOcTree(double resolution)
-    : OccupancyOcTreeBase<EvidentialOcTreeNode>(resolution) {
+EvidentialOcTree::EvidentialOcTree(double resolution, EvidentialLayout layout)
+    : OccupancyOcTreeBase<EvidentialOcTreeNode>(resolution), layout_(layout) {
   registration_.ensureLinking();
 }
 
 EvidentialOcTree::~EvidentialOcTree() = default;
 
-EvidentialOcTree* EvidentialOcTree::create() const { return new EvidentialOcTree(resolution); }
+EvidentialOcTree* EvidentialOcTree::create() const {
+  return new EvidentialOcTree(resolution, layout_);
+}
 
-std::string EvidentialOcTree::getTreeType() const { return kTreeType; }
+std::string EvidentialOcTree::getTreeType() const { return treeTypeOf(layout_); }
 
-EvidentialOcTreeNode* EvidentialOcTree::setNodeCell(const octomap::OcTreeKey& key,
-                                                    const Cell& cell) {
+EvidentialOcTreeNode* EvidentialOcTree::setNodeCell(const octomap::OcTreeKey& key, const Cell& cell,
+                                                    float anomaly) {
   // setNodeValue creates the path (lazily, no pruning) but clamps the value to OctoMap's
   // clamping thresholds; setCell then stores the exact value with the masses.
   EvidentialOcTreeNode* node = setNodeValue(key, occupancyLogOdds(cell), /*lazy_eval=*/true);
-  if (node != nullptr) node->setCell(cell);
+  if (node != nullptr) {
+    node->setCell(cell);
+    node->setAnomaly(anomaly);
+  }
   return node;
 }
 
@@ -110,6 +141,7 @@ void EvidentialOcTree::updateInnerNodes() {
 void EvidentialOcTree::updateInnerNodesRecurs(EvidentialOcTreeNode* node, unsigned depth) {
   if (!nodeHasChildren(node)) return;
   const EvidentialOcTreeNode* most_occupied = nullptr;
+  float anomaly = 0.0f;
   for (unsigned i = 0; i < 8; ++i) {
     if (!nodeChildExists(node, i)) continue;
     EvidentialOcTreeNode* child = getNodeChild(node, i);
@@ -117,23 +149,40 @@ void EvidentialOcTree::updateInnerNodesRecurs(EvidentialOcTreeNode* node, unsign
     if (most_occupied == nullptr || child->getLogOdds() > most_occupied->getLogOdds()) {
       most_occupied = child;
     }
+    anomaly = std::max(anomaly, child->anomaly());
   }
   node->copyData(*most_occupied);
+  node->setAnomaly(anomaly);
+}
+
+std::ostream& EvidentialOcTree::writeData(std::ostream& s) const {
+  if (root != nullptr) writeNodesRecurs(root, s);
+  return s;
+}
+
+void EvidentialOcTree::writeNodesRecurs(const EvidentialOcTreeNode* node, std::ostream& s) const {
+  // OctoMap's own order (OcTreeBaseImpl::writeNodesRecurs): payload, child byte, children.
+  node->writeData(s, layout_);
+  unsigned char children = 0;
+  for (unsigned i = 0; i < 8; ++i) {
+    if (nodeChildExists(node, i)) children |= static_cast<unsigned char>(1u << i);
+  }
+  s.write(reinterpret_cast<const char*>(&children), 1);
+  for (unsigned i = 0; i < 8; ++i) {
+    if (children & (1u << i)) writeNodesRecurs(getNodeChild(node, i), s);
+  }
 }
 
 bool EvidentialOcTree::readNodesRecurs(EvidentialOcTreeNode* node, unsigned depth, std::istream& s,
                                        uint64_t max_nodes, uint64_t* count, std::string* error) {
-  if (!node->readData(s)) {
+  if (!node->readData(s, layout_)) {
     if (s.eof()) {
       *error = "truncated: the data ends inside node " + std::to_string(*count);
     } else {
-      char text[160];
-      std::snprintf(text, sizeof(text),
-                    "node %llu holds values no grid can hold (log-odds %g, m~(o) %g, m~(e) %g, "
-                    "lambda %g)",
-                    static_cast<unsigned long long>(*count), node->getLogOdds(),
-                    node->cell().occupied(), node->cell().free(), node->cell().lambda());
-      *error = text;
+      // (The node keeps none of the rejected values: readData stores only valid ones.)
+      *error = "node " + std::to_string(*count) +
+               " holds values no grid can hold (not finite, a mass outside [0, 1], m~(o) + m~(e) "
+               "above 1, or a negative lambda or anomaly)";
     }
     return false;
   }
@@ -253,6 +302,7 @@ std::string printable(const std::string& word) {
 
 struct Header {
   std::string id;
+  EvidentialLayout layout = kLatestEvidentialLayout;
   bool has_size = false, has_res = false;
   uint64_t size = 0;
   double res = 0.0;
@@ -296,9 +346,10 @@ bool readHeader(std::istream& in, Header* h, std::string* why) {
     if (key == "data") {
       if (h->id.empty()) {
         *why = "corrupt header: no tree 'id'";
-      } else if (h->id != EvidentialOcTree::kTreeType) {
+      } else if (!EvidentialOcTree::layoutOf(h->id, &h->layout)) {
         *why = "holds an OctoMap '" + printable(h->id) + "', not an '" +
-               EvidentialOcTree::kTreeType + "' (no evidential masses)";
+               EvidentialOcTree::kAnomalyTreeType + "' or '" + EvidentialOcTree::kTreeType +
+               "' (no evidential masses)";
       } else if (!h->has_res) {
         *why = "corrupt header: no 'res'";
       } else if (!h->has_size) {
@@ -350,8 +401,8 @@ bool readEvidentialOctree(std::istream& in, const std::string& name,
     std::unique_ptr<octomap::AbstractOcTree> created(
         octomap::AbstractOcTree::createTree(header.id, header.res));
     auto* evidential = dynamic_cast<EvidentialOcTree*>(created.get());
-    if (evidential == nullptr) {
-      return fail(EvidentialOcTree::kTreeType +
+    if (evidential == nullptr || evidential->layout() != header.layout) {
+      return fail(header.id +
                   " is not registered with OctoMap's tree factory (library not loaded?)");
     }
     created.release();

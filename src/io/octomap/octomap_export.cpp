@@ -68,6 +68,12 @@ bool OctomapExportConfig::isValid(std::string* why) const {
 bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& config,
                    const std::string& path_prefix, OctomapExportResult* result, std::string* error,
                    AtomicFiles* staged) {
+  return exportOctomap(grid, AnomalyGrid(), config, path_prefix, result, error, staged);
+}
+
+bool exportOctomap(const EvidentialGridMap& grid, const AnomalyGrid& anomaly,
+                   const OctomapExportConfig& config, const std::string& path_prefix,
+                   OctomapExportResult* result, std::string* error, AtomicFiles* staged) {
   AtomicFiles own;
   AtomicFiles* files = staged ? staged : &own;
   const auto t0 = Clock::now();
@@ -112,11 +118,16 @@ bool exportOctomap(const EvidentialGridMap& grid, const OctomapExportConfig& con
     });
   };
 
-  {  // Evidential: every mass; pruned where masses are equal.
+  {  // Evidential: every mass and the anomaly; pruned where both are equal.
     const auto t = Clock::now();
     OctomapExportFile file{"evidential", path_prefix + kEvidentialOtSuffix};
-    EvidentialOcTree tree(res);
-    forEachVoxel([&](const octomap::OcTreeKey& key, const Cell& c) { tree.setNodeCell(key, c); });
+    EvidentialOcTree tree(res, EvidentialLayout::kMassesAnomaly);
+    forEachObserved(grid, box, [&](uint16_t kx, uint16_t ky, const Cell& c) {
+      const float bits = anomaly.empty() ? 0.0f : anomaly.at(kx - kKeyOffset, ky - kKeyOffset);
+      for (int kz = kz_min; kz <= kz_max; ++kz) {
+        tree.setNodeCell(octomap::OcTreeKey(kx, ky, static_cast<uint16_t>(kz)), c, bits);
+      }
+    });
     tree.updateInnerNodes();
     tree.prune();
     file.nodes = tree.size();

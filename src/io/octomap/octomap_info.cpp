@@ -17,6 +17,8 @@ OctreeStats computeOctreeStats(const EvidentialOcTree& tree) {
   OctreeStats s;
   s.resolution = tree.getResolution();
   s.nodes = tree.size();
+  s.layout = tree.layout();
+  s.has_anomaly = tree.layout() != EvidentialLayout::kMasses;
   std::array<double, kLayerCount> sum{};
   s.min.fill(std::numeric_limits<double>::max());
   s.max.fill(std::numeric_limits<double>::lowest());
@@ -39,8 +41,14 @@ OctreeStats computeOctreeStats(const EvidentialOcTree& tree) {
       s.min[a] = std::min(s.min[a], centre[a] - half);
       s.max[a] = std::max(s.max[a], centre[a] + half);
     }
+    if (it->anomaly() > 0.0f) {
+      s.anomaly_voxels += count;
+      s.anomaly_voxel_bits += static_cast<double>(it->anomaly()) * static_cast<double>(count);
+    }
     for (int l = 0; l < kLayerCount; ++l) {
-      const double v = layerValue(it->cell(), static_cast<Layer>(l));
+      const double v = static_cast<Layer>(l) == Layer::kAnomaly
+                           ? static_cast<double>(it->anomaly())
+                           : layerValue(it->cell(), static_cast<Layer>(l));
       s.layers[l].min = std::min(s.layers[l].min, v);
       s.layers[l].max = std::max(s.layers[l].max, v);
       sum[l] += v * static_cast<double>(count);
@@ -58,6 +66,7 @@ OctreeStats computeOctreeStats(const EvidentialOcTree& tree) {
 
 bool LayerComparison::identical(double tolerance) const {
   if (missing_voxels != 0 || extra_voxels != 0 || cells == 0) return false;
+  if (anomaly_compared && !(anomaly_max_abs_diff <= tolerance)) return false;
   return std::all_of(max_abs_diff.begin(), max_abs_diff.end(),
                      [&](double d) { return d <= tolerance; });
 }
@@ -117,6 +126,17 @@ bool compareWithLayers(const EvidentialOcTree& tree, const OctreeStats& stats,
   if (!readNpy(layers_dir + "/observed.npy", &observed_npy, &why)) return fail(why);
   const std::vector<uint8_t> observed = observed_npy.asUint8();
   if (observed.size() != rows * cols) return fail("observed.npy does not match the layers");
+  std::vector<float> anomaly;
+  if (tree.layout() != EvidentialLayout::kMasses) {
+    NpyArray a;
+    if (!readNpy(layers_dir + "/" + layerName(Layer::kAnomaly) + ".npy", &a, &why))
+      return fail(why);
+    anomaly = a.asFloat32();
+    if (a.shape.size() != 2 || anomaly.size() != rows * cols) {
+      return fail(layerName(Layer::kAnomaly) + ".npy does not match the layers");
+    }
+    comparison->anomaly_compared = true;
+  }
 
   // Cell (row, col) of the raster is grid cell (col0 + col, row0 + row), OctoMap key + 32768.
   const long col0 = std::lround(origin_x / res), row0 = std::lround(origin_y / res);
@@ -144,6 +164,11 @@ bool compareWithLayers(const EvidentialOcTree& tree, const OctreeStats& stats,
           const float value = static_cast<float>(layerValue(node->cell(), kMasses[m]));
           comparison->max_abs_diff[m] = std::max(
               comparison->max_abs_diff[m], std::abs(static_cast<double>(value) - masses[m][i]));
+        }
+        if (!anomaly.empty()) {
+          comparison->anomaly_max_abs_diff =
+              std::max(comparison->anomaly_max_abs_diff,
+                       std::abs(static_cast<double>(node->anomaly()) - anomaly[i]));
         }
       }
     }
