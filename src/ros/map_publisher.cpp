@@ -15,7 +15,17 @@ MapPublisher::MapPublisher(ros::NodeHandle nh, ros::NodeHandle private_nh, std::
     : map_frame_(std::move(map_frame)), source_(std::move(source)) {
   map_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
   metadata_pub_ = nh.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
-  grid_pub_ = private_nh.advertise<EvidentialGrid>("grid", 1);
+  // A new ~grid subscriber gets the current map at once (it is not latched; in localization mode
+  // the map may never change again).
+  auto grid_connected = [this](const ros::SingleSubscriberPublisher&) {
+    grid_wanted_ = true;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      update_requested_ = true;
+    }
+    wake_.notify_one();
+  };
+  grid_pub_ = private_nh.advertise<EvidentialGrid>("grid", 1, grid_connected);
   for (int l = 0; l < kLayerCount; ++l) {
     // A new subscriber gets the current layer at once (latched from then on).
     auto connected = [this, l](const ros::SingleSubscriberPublisher&) {
@@ -58,7 +68,7 @@ void MapPublisher::run() {
     update_requested_ = false;
     lock.unlock();
     const MapSnapshot snapshot = source_();
-    bool layer_request = false;
+    bool layer_request = grid_wanted_;
     for (const auto& wanted : layer_wanted_) layer_request = layer_request || wanted;
     const bool map_changed = snapshot.version != published_version_;
     // The anomaly layer alone is rendered only for its subscribers.
@@ -87,11 +97,11 @@ void MapPublisher::publish(const MapSnapshot& snapshot, bool map_changed, bool a
     toTrinaryOccupancyGrid(raster, occupied_thresh_.load(), free_thresh_.load(), header, &map);
     map_pub_.publish(map);
     metadata_pub_.publish(map.info);
-    if (grid_pub_.getNumSubscribers() > 0) {
-      EvidentialGrid grid;
-      toEvidentialGridMsg(raster, header, &grid);
-      grid_pub_.publish(grid);
-    }
+  }
+  if (grid_wanted_.exchange(false) || (map_changed && grid_pub_.getNumSubscribers() > 0)) {
+    EvidentialGrid grid;
+    toEvidentialGridMsg(raster, header, &grid);
+    grid_pub_.publish(grid);
   }
   for (int l = 0; l < kLayerCount; ++l) {
     const bool wanted = layer_wanted_[l].exchange(false);

@@ -24,6 +24,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "evidential_slam/EvidentialGrid.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "evidential_slam/io/map_file.h"
@@ -248,8 +249,21 @@ TEST(SlamLocalization, GlobalLocalizationSpreadsTheCloud) {
 }
 
 // Neither /initialpose nor ~global_localization changes the map: /map was still sent only once.
+// A late ~grid subscriber gets the stored map once, though it never changes.
 TEST(SlamLocalization, TheMapIsSentOnlyOnce) {
+  ros::NodeHandle nh;
+  int grids = 0;
+  std::mutex grid_mutex;
+  auto grid = nh.subscribe<EvidentialGrid>("/evidential_slam/grid", 1,
+                                           [&](const EvidentialGrid::ConstPtr&) {
+                                             std::lock_guard<std::mutex> lock(grid_mutex);
+                                             ++grids;
+                                           });
   ros::Duration(3.0).sleep();  // three map updates (simulated time runs on after the log)
+  {
+    std::lock_guard<std::mutex> lock(grid_mutex);
+    EXPECT_EQ(grids, 1);
+  }
   std::lock_guard<std::mutex> lock(seen->mutex);
   EXPECT_EQ(seen->maps, 1);
   EXPECT_EQ(seen->occupied_layers, 1);

@@ -47,6 +47,7 @@ class MapPublisher {
   ros::Publisher map_pub_, metadata_pub_, grid_pub_;
   std::array<ros::Publisher, kLayerCount> layer_pubs_;
   std::array<std::atomic<bool>, kLayerCount> layer_wanted_{};  // new subscriber waiting
+  std::atomic<bool> grid_wanted_{false};                        // ... on ~grid
   std::string map_frame_;
   std::function<MapSnapshot()> source_;
   std::atomic<double> ec_display_max_{2.0};
