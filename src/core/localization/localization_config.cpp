@@ -14,6 +14,16 @@ bool LocalizationConfig::isValid(std::string* why) const {
     if (why != nullptr) *why = "min_particles must not be above max_particles";
     return false;
   }
+  if (laser_model_type != "beam" && laser_model_type != "likelihood_field") {
+    if (why != nullptr) {
+      *why = "laser_model_type must be beam or likelihood_field, not '" + laser_model_type + "'";
+    }
+    return false;
+  }
+  if (!(laser_z_hit + laser_z_rand > 0.0)) {
+    if (why != nullptr) *why = "laser_z_hit + laser_z_rand must be above 0";
+    return false;
+  }
   return true;
 }
 

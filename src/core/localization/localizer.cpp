@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "evidential_slam/core/localization/kld_sampling.h"
+#include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/motion_model.h"
 #include "evidential_slam/core/parameters.h"
@@ -72,6 +73,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   models_.clear();
   free_cells_.clear();
   free_cells_built_ = false;
+  field_.reset();
   particles_.clear();
   anomaly_.clear();
   trajectory_.clear();
@@ -94,6 +96,7 @@ bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& 
   next.seed = slam_.seed;
   next.threads = slam_.threads;
   if (!config.isValid(why) || !next.isValid(why)) return false;
+  if (config.laser_likelihood_max_dist != config_.laser_likelihood_max_dist) field_.reset();
   config_ = config;
   slam_ = next;
   models_.clear();
@@ -247,6 +250,14 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
       used > 0.0 ? static_cast<double>(hits) / used / slam_.likelihood_temperature : 0.0;
   const std::vector<MatchPoint> endpoints =
       slam_.matcher.enabled ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
+  const LikelihoodField* field = nullptr;
+  if (config_.likelihoodField()) {
+    // Computed once per map (and cap): the map never changes while localizing.
+    if (!field_) {
+      field_ = std::make_unique<LikelihoodField>(map_, config_.laser_likelihood_max_dist);
+    }
+    field = field_.get();
+  }
 
   // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples
   // onto the matcher's optimum and cost accuracy while tracking (docs/decisions.md). Only while a
@@ -265,7 +276,11 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     particles_[k].pose = pose;
     on_map[k] = onMappedFloor(pose) ? 1 : 0;
     if (used > 0.0) {
-      log_pl[k] = models.beam.logPlausibility(map_, pose.compose(weighed.sensor_pose), weighed, 1);
+      const Pose2 sensor = pose.compose(weighed.sensor_pose);
+      log_pl[k] = field != nullptr
+                      ? field->logLikelihood(sensor, weighed, config_.laser_sigma_hit,
+                                             config_.laser_z_hit, config_.laser_z_rand)
+                      : models.beam.logPlausibility(map_, sensor, weighed, 1);
     }
   });
 

@@ -1,7 +1,7 @@
 // Localization on a fixed map (core/localization): KLD-sampling's sample counts by hand, and the
 // localizer in a hand-made room with a block against one wall (an asymmetric room): tracking from
-// a spread start, global localization, the particle count shrinking as the cloud converges, the
-// motion gate, resets, the anomaly of a removed block, and the refusals.
+// a spread start and global localization with either laser model, the particle count shrinking as
+// the cloud converges, the motion gate, resets, the anomaly of a removed block, and the refusals.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "evidential_slam/core/localization/kld_sampling.h"
+#include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/localization/localizer.h"
+#include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/slam_engine.h"
 #include "../test_support.h"
 
@@ -137,8 +139,10 @@ Route route(int steps) {
   return r;
 }
 
-LocalizationConfig localizationConfig() {
+LocalizationConfig localizationConfig(
+    const std::string& model = LocalizationConfig().laser_model_type) {
   LocalizationConfig c;
+  c.laser_model_type = model;
   c.min_particles = 50;
   c.max_particles = 3000;
   c.update_min_d = 0.1;
@@ -150,8 +154,8 @@ LocalizationConfig localizationConfig() {
 // Started 0.4 m and 0.3 rad off with a covariance that covers that, the estimate settles on the
 // truth; KLD-sampling drew hundreds of particles for the spread start and keeps min_particles
 // once the cloud has converged.
-TEST(Localizer, ConvergesFromASpreadStartAndShrinksTheCloud) {
-  Localizer loc(localizationConfig(), slamConfig());
+void convergesFromASpreadStart(const std::string& model) {
+  Localizer loc(localizationConfig(model), slamConfig());
   ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
   const Route r = route(60);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
@@ -183,10 +187,19 @@ TEST(Localizer, ConvergesFromASpreadStartAndShrinksTheCloud) {
   EXPECT_EQ(loc.trajectory().size(), r.truth.size());
 }
 
+// The default model (beam).
+TEST(Localizer, ConvergesFromASpreadStartAndShrinksTheCloud) {
+  convergesFromASpreadStart(LocalizationConfig().laser_model_type);
+}
+
+TEST(Localizer, LikelihoodFieldConvergesFromASpreadStartAndTracks) {
+  convergesFromASpreadStart("likelihood_field");
+}
+
 // Global localization in the asymmetric room: max_particles over its free space, the estimate on
 // the truth within a few updates, and the cloud shrinks as KLD-sampling asks.
-TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
-  LocalizationConfig c = localizationConfig();
+void globalLocalization(const std::string& model) {
+  LocalizationConfig c = localizationConfig(model);
   c.max_particles = 2000;
   Localizer loc(c, slamConfig());
   ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
@@ -211,6 +224,15 @@ TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
   EXPECT_LE(loc.particles().size(), kldSampleLimit(8, 0.01, 0.99, 50, 2000));
   // From the first resampling on, the scans have singled the pose out: far fewer particles.
   EXPECT_LT(loc.stats().max_particles_used, 600u);
+}
+
+// The default model (beam).
+TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
+  globalLocalization(LocalizationConfig().laser_model_type);
+}
+
+TEST(Localizer, LikelihoodFieldGlobalLocalizationInAnAsymmetricRoom) {
+  globalLocalization("likelihood_field");
 }
 
 // Scans within update_min_d and update_min_a of the last update only move the estimate by the
@@ -324,6 +346,51 @@ TEST(Localizer, OneScanMatchRefinesTheEstimateNotTheParticles) {
   EXPECT_EQ(plain.stats().scan_matches, 0u);
 }
 
+// With laser_model_type likelihood_field, a cloud of identical particles scores the weighed beams
+// (at most laser_max_beams hits, evenly spread) exactly as the map's LikelihoodField does: for the
+// map given to setMap, and for the cap given to reconfigure (the field is computed again for
+// both). The beam model scores them otherwise.
+TEST(Localizer, LikelihoodFieldWeighsTheBeams) {
+  const Pose2 room(-0.5, 0.4, 0.3);
+  const LaserScan scan = blockRoomScan(room, 1.0, true);
+  const SlamConfig slam = slamConfig();
+  const EvidentialGridMap with_block = roomMap(true), without_block = roomMap(false);
+  const LocalizationConfig config = localizationConfig("likelihood_field");
+  const SensorModelConfig sensor = slam.sensor.forSensorNoise(0.0, with_block.resolution());
+  const size_t hits = ParticleFilter::hitBeamSubset(scan, sensor, 1).ranges.size();
+  const int stride = static_cast<int>(
+      std::ceil(static_cast<double>(hits) / config.laser_max_beams));
+  const LaserScan weighed = ParticleFilter::hitBeamSubset(scan, sensor, stride);
+  ASSERT_EQ(weighed.ranges.size(), 30u);
+  const auto expected = [&](const EvidentialGridMap& map, double cap) {
+    return LikelihoodField(map, cap).logLikelihood(inMap(room), weighed, config.laser_sigma_hit,
+                                                   config.laser_z_hit, config.laser_z_rand) /
+           30.0;
+  };
+  const auto measured = [&](Localizer* loc) {
+    EXPECT_TRUE(loc->resetAt(inMap(room), Eigen::Matrix3d::Zero(), nullptr));
+    const LocalizationUpdate u = loc->processScan(Pose2(0, 0, 0), scan);
+    EXPECT_TRUE(u.processed);
+    return u.mean_log_plausibility;
+  };
+  Localizer loc(config, slam);
+  ASSERT_TRUE(loc.setMap(with_block, nullptr));
+  const double on_block_map = measured(&loc);
+  EXPECT_NEAR(on_block_map, expected(with_block, 2.0), 1e-9);
+  ASSERT_TRUE(loc.setMap(without_block, nullptr));
+  EXPECT_NEAR(measured(&loc), expected(without_block, 2.0), 1e-9);
+  // Without the block, the beams ending on it are far from any plausible end.
+  EXPECT_LT(measured(&loc), on_block_map - 0.05);
+  LocalizationConfig capped = config;
+  capped.laser_likelihood_max_dist = 0.1;
+  ASSERT_TRUE(loc.reconfigure(capped, slam, nullptr));
+  EXPECT_NEAR(measured(&loc), expected(without_block, 0.1), 1e-9);
+
+  Localizer beam(localizationConfig("beam"), slam);
+  ASSERT_TRUE(beam.setMap(with_block, nullptr));
+  EXPECT_GT(std::abs(measured(&beam) - on_block_map), 0.01);
+}
+
 TEST(Localizer, RefusesBadInput) {
   Localizer loc(localizationConfig(), slamConfig());
   std::string why;
@@ -364,6 +431,14 @@ TEST(Localizer, RefusesBadInput) {
   c.kld_err = 0.0;
   EXPECT_FALSE(c.isValid(&why));
   EXPECT_EQ(why.rfind("kld_err must be in", 0), 0u) << why;
+  c = LocalizationConfig();
+  c.laser_model_type = "field";
+  EXPECT_FALSE(c.isValid(&why));
+  EXPECT_EQ(why, "laser_model_type must be beam or likelihood_field, not 'field'");
+  c = LocalizationConfig();
+  c.laser_z_hit = c.laser_z_rand = 0.0;
+  EXPECT_FALSE(c.isValid(&why));
+  EXPECT_EQ(why, "laser_z_hit + laser_z_rand must be above 0");
   EXPECT_THROW(Localizer(c, slamConfig()), std::invalid_argument);
 }
 

@@ -1,14 +1,16 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
 // only; each update samples the odometry motion model (the proposal, as amcl's; after a global
 // localization, until the cloud has narrowed to the scan matcher's search radius, each sample is
-// also scan-matched), weighs the samples by the evidential forward model (BeamModel on at most
-// laser_max_beams hit beams, tempered like the SLAM's weights) and never writes the map. Every
+// also scan-matched), weighs the samples on at most laser_max_beams hit beams, tempered like the
+// SLAM's weights, by laser_model_type's model: likelihood_field (LikelihoodField, computed once
+// per map) or beam (the evidential forward model, BeamModel) and never writes the map. Every
 // resample_interval updates the particles are resampled with KLD-sampling, which adapts their
 // number to the spread of the cloud between min_particles and max_particles; with
 // recovery_alpha_slow/_fast, random poses from the map's free space are added when the scans'
 // plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
-// heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly of every processed scan at the estimate is accumulated
-// against the map (anomaly.h): what changed since the map was made.
+// heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly
+// of every processed scan at the estimate is accumulated against the map (anomaly.h): what
+// changed since the map was made.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +30,7 @@
 
 namespace evidential_slam {
 
+class LikelihoodField;
 class Rng;
 class WorkerPool;
 
@@ -136,6 +139,7 @@ class Localizer {
   bool free_cells_built_ = false;
   std::vector<LocalizationParticle> particles_;
   std::vector<std::unique_ptr<Models>> models_;
+  std::unique_ptr<LikelihoodField> field_;  // built at the first likelihood_field update
   std::unique_ptr<WorkerPool> pool_;
   struct Workspace;
   std::vector<std::unique_ptr<Workspace>> workspaces_;
