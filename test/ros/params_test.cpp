@@ -100,7 +100,11 @@ TEST(Params, RuntimeParametersAreTheReconfigureFields) {
       text = b.value ? "true" : "false";
       found = true;
     }
-    for (auto& str : changed.strs) found = found || str.name == name;
+    for (auto& str : changed.strs) {
+      if (str.name != name) continue;
+      text = str.value;  // strings have no range to step through: the default, by both ways
+      found = true;
+    }
     if (spec.scope == ParameterScope::startup) {
       EXPECT_FALSE(found) << name << " is start-up only but in cfg/EvidentialSlam.cfg";
       continue;
