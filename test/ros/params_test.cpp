@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -102,7 +103,13 @@ TEST(Params, RuntimeParametersAreTheReconfigureFields) {
     }
     for (auto& str : changed.strs) {
       if (str.name != name) continue;
-      text = str.value;  // strings have no range to step through: the default, by both ways
+      // Strings have no range to step through: another valid value of each (a new run-time
+      // string needs one here).
+      static const std::map<std::string, std::string> kOther = {
+          {"laser_model_type", "likelihood_field"}};
+      const auto other = kOther.find(name);
+      if (other != kOther.end()) str.value = other->second;
+      text = str.value;
       found = true;
     }
     if (spec.scope == ParameterScope::startup) {
