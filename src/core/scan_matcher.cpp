@@ -144,7 +144,7 @@ class CorrespondenceSearch {
     for (int tx = x0 >> kBits; tx <= x1 >> kBits; ++tx) {
       uint32_t bits = (*rows_[row_base + static_cast<size_t>(tx - tx0_)])[in_tile];
       if (bits == 0) continue;
-      const int base = tx << kBits;
+      const int base = tx * kSize;  // tx < 0 west of the origin: a left shift would be UB
       const int lo = std::max(x0, base) - base, hi = std::min(x1, base + kSize - 1) - base;
       bits &= (0xFFFFFFFFu >> (kSize - 1 - hi)) & (0xFFFFFFFFu << lo);
       while (bits != 0) {

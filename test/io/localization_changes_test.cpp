@@ -138,8 +138,8 @@ TEST(LocalizationOnAChangedWorld, ThePoseHoldsAndTheChangesStandOut) {
     for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
       const Cell& c = tile.cells[static_cast<size_t>(k)];
       if (layerValue(c, Layer::kOccupied) + layerValue(c, Layer::kConflict) < 0.5) continue;
-      const int x = (tx << EvidentialGridMap::kTileBits) + (k & (EvidentialGridMap::kTileSize - 1));
-      const int y = (ty << EvidentialGridMap::kTileBits) + (k >> EvidentialGridMap::kTileBits);
+      const int x = tx * EvidentialGridMap::kTileSize + (k & (EvidentialGridMap::kTileSize - 1));
+      const int y = ty * EvidentialGridMap::kTileSize + (k >> EvidentialGridMap::kTileBits);
       const Eigen::Vector2d m = map.cellCenter(CellIndex{x, y});
       const Pose2 w = start.compose(Pose2(m.x(), m.y(), 0.0));
       if (kRemoved.contains(w.x, w.y, 0.15) || kAdded.contains(w.x, w.y, 0.15)) continue;

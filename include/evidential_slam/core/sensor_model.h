@@ -115,8 +115,9 @@ class ScanAccumulator {
       for (size_t w = 0; w < block.touched.size(); ++w) {
         for (uint64_t bits = block.touched[w]; bits != 0; bits &= bits - 1) {
           const size_t k = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
-          fn((block.tile_x << kTileBits) | static_cast<int>(k & (kTileSize - 1)),
-             (block.tile_y << kTileBits) | static_cast<int>(k >> kTileBits), block.mass[k]);
+          // Tiles west and south of the origin are negative: multiply, do not shift left (UB).
+          fn(block.tile_x * kTileSize + static_cast<int>(k & (kTileSize - 1)),
+             block.tile_y * kTileSize + static_cast<int>(k >> kTileBits), block.mass[k]);
         }
       }
     }

@@ -134,7 +134,7 @@ bool fuseMaps(const std::vector<FusionSource>& sources, const FusionConfig& conf
         bool any = false;
         for (int j = 0; j < kSize; ++j) {
           for (int i = 0; i < kSize; ++i) {
-            const int cx = (tx << kBits) + i, cy = (ty << kBits) + j;
+            const int cx = tx * kSize + i, cy = ty * kSize + j;  // not << (tiles can be < 0)
             beliefs.clear();
             from.clear();
             const Cell* only = nullptr;

@@ -169,9 +169,10 @@ void Localizer::buildFreeCells() {
       if (!c.observed() || pignistic(c) >= kFreeSpaceBetP || nonSpecificity(c) >= kFreeSpaceNS) {
         continue;
       }
+      // Negative tiles: multiply, do not shift left (a left shift of a negative value is UB).
       free_cells_.push_back(
-          CellIndex{(tx << EvidentialGridMap::kTileBits) + (k & (EvidentialGridMap::kTileSize - 1)),
-                    (ty << EvidentialGridMap::kTileBits) + (k >> EvidentialGridMap::kTileBits)});
+          CellIndex{tx * EvidentialGridMap::kTileSize + (k & (EvidentialGridMap::kTileSize - 1)),
+                    ty * EvidentialGridMap::kTileSize + (k >> EvidentialGridMap::kTileBits)});
     }
   });
   free_cells_built_ = true;
