@@ -21,17 +21,17 @@ using namespace testing_cells;
 constexpr double kTol = 5e-4;
 
 // Layer values, in layer order (occupied free unknown conflict pignistic nonspecificity
-// internal_conflict external_conflict entropy):
+// internal_conflict external_conflict entropy anomaly; the anomaly is 0 without an AnomalyGrid):
 // vacuous: m(Θ) = 1, BetP 0.5, NS 1, H 1.
-const std::vector<double> kVacuous = {0.0, 0.0, 1.0, 0.0, 0.5, 1.0, 0.0, 0.0, 1.0};
+const std::vector<double> kVacuous = {0.0, 0.0, 1.0, 0.0, 0.5, 1.0, 0.0, 0.0, 1.0, 0.0};
 // certain occupied: m(o) = 1, BetP 1, everything else 0.
-const std::vector<double> kOccupied = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0};
+const std::vector<double> kOccupied = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0};
 // (∅0.5, o0.3, e0.1, Θ0.1): BetP 0.35/0.5 = 0.7, IC 0.22877124, EC 1, H(0.7) = 0.88129090.
 const std::vector<double> kConflicting = {
-    0.3, 0.1, 0.1, 0.5, 0.7, 0.1, 0.22877123795494, 1.0, 0.88129089923069};
+    0.3, 0.1, 0.1, 0.5, 0.7, 0.1, 0.22877123795494, 1.0, 0.88129089923069, 0.0};
 // (∅0, o0.6, e0.1, Θ0.3): BetP 0.75, IC 0.22339467, H(0.75) = 0.81127812.
 const std::vector<double> kAsymmetric = {
-    0.6, 0.1, 0.3, 0.0, 0.75, 0.3, 0.22339466555577, 0.0, 0.81127812445913};
+    0.6, 0.1, 0.3, 0.0, 0.75, 0.3, 0.22339466555577, 0.0, 0.81127812445913, 0.0};
 
 // Grid with (2,3) certain occupied, (4,3) conflicting, (5,2) asymmetric; resolution 0.05.
 EvidentialGridMap makeGrid() {
@@ -43,6 +43,7 @@ EvidentialGridMap makeGrid() {
 }
 
 void expectLayers(const LayerRaster& r, int index, const std::vector<double>& expected) {
+  ASSERT_EQ(expected.size(), static_cast<size_t>(kLayerCount)) << "one expected value per layer";
   for (int l = 0; l < kLayerCount; ++l) {
     ASSERT_LT(static_cast<size_t>(index), r.values[l].size());
     EXPECT_NEAR(r.values[l][index], expected[l], kTol)
