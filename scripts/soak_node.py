@@ -176,6 +176,30 @@ def accounted(hb):
             + hb.get("dropped: no transform"))
 
 
+def print_rss(part, samples):
+    """The RSS at the start, middle and end of the samples (t, rss, ...), and its range."""
+    rss = [s[1] for s in samples]
+    mid = samples[len(samples) // 2]
+    print("%s: RSS start %.1f MB (t = %.0f s), middle %.1f MB (t = %.0f s), end %.1f MB "
+          "(t = %.0f s); min %.1f, max %.1f" % (
+              part, samples[0][1], samples[0][0], mid[1], mid[0], samples[-1][1],
+              samples[-1][0], min(rss), max(rss)))
+
+
+def check_accounted(part, drained, received, hb):
+    """Prints and checks that the queue drained and every received scan is accounted for."""
+    ok = True
+    if not drained:
+        print("%s: FAIL: the queue did not drain within 300 s" % part)
+        ok = False
+    lost = received - accounted(hb)
+    print("%s: received - (handled + queue full + malformed + no transform) = %d" % (part, lost))
+    if lost != 0:
+        print("%s: FAIL: scans not accounted for" % part)
+        ok = False
+    return ok
+
+
 def flood(args, hb, robot):
     period = 1.0 / args.rate
     duration = args.minutes * 60.0
@@ -207,8 +231,6 @@ def flood(args, hb, robot):
     received = hb.get("scans received")
     handled = hb.get("scans handled")
     drops = {k: hb.get(k) for k in DROPS}
-    rss = [s[1] for s in samples]
-    mid = samples[len(samples) // 2]
     print("flood: %.0f s at %.0f Hz: sent %d, received %d, handled %d (%.1f per s while "
           "publishing: published/handled rate %.1f)" % (
               publish_s, args.rate, robot.sent, received, handled,
@@ -216,21 +238,10 @@ def flood(args, hb, robot):
     print("flood: " + ", ".join("%s %d" % (k, v) for k, v in drops.items()))
     print("flood: queue length max %d of %d (sampled every 10 s)" % (
         queue_max, hb.get("queue capacity")))
-    print("flood: RSS start %.1f MB (t = %.0f s), middle %.1f MB (t = %.0f s), end %.1f MB "
-          "(t = %.0f s); min %.1f, max %.1f" % (
-              samples[0][1], samples[0][0], mid[1], mid[0], samples[-1][1], samples[-1][0],
-              min(rss), max(rss)))
+    print_rss("flood", samples)
     for s in samples:
         print("flood:   t %6.0f s  RSS %7.1f MB  received %8d  handled %7d  queue %5d" % s)
-    ok = True
-    if not drained:
-        print("flood: FAIL: the queue did not drain within 300 s")
-        ok = False
-    lost = received - accounted(hb)
-    print("flood: received - (handled + queue full + malformed + no transform) = %d" % lost)
-    if lost != 0:
-        print("flood: FAIL: scans not accounted for")
-        ok = False
+    ok = check_accounted("flood", drained, received, hb)
     if robot.sent != received:
         print("flood: FAIL: %d scans sent but not received" % (robot.sent - received))
         ok = False
@@ -261,29 +272,16 @@ def watch(args, hb):
     time.sleep(2.0)
     hb.wait_newer()
     received, handled = hb.get("scans received"), hb.get("scans handled")
-    rss = [s[1] for s in samples]
-    mid = samples[len(samples) // 2]
     print("watch: %.0f s: scans on /scan %d, received %d, handled %d, restarts %d" % (
         time.time() - t0, seen["n"], received, handled, hb.get("restarts")))
     print("watch: " + ", ".join("%s %d" % (k, hb.get(k)) for k in DROPS))
     print("watch: queue length max %d of %d (sampled every 10 s)" % (
         max(s[5] for s in samples), hb.get("queue capacity")))
-    print("watch: RSS start %.1f MB (t = %.0f s), middle %.1f MB (t = %.0f s), end %.1f MB "
-          "(t = %.0f s); min %.1f, max %.1f" % (
-              samples[0][1], samples[0][0], mid[1], mid[0], samples[-1][1], samples[-1][0],
-              min(rss), max(rss)))
+    print_rss("watch", samples)
     for s in samples:
         print("watch:   t %6.0f s  RSS %7.1f MB  on /scan %8d  received %8d  handled %7d  "
               "queue %5d  queue full %8d  restarts %4d" % s)
-    ok = True
-    if not drained:
-        print("watch: FAIL: the queue did not drain within 300 s")
-        ok = False
-    lost = received - accounted(hb)
-    print("watch: received - (handled + queue full + malformed + no transform) = %d" % lost)
-    if lost != 0:
-        print("watch: FAIL: scans not accounted for")
-        ok = False
+    ok = check_accounted("watch", drained, received, hb)
     if seen["n"] != received:
         print("watch: FAIL: %d scans on /scan, %d received by the node" % (seen["n"], received))
         ok = False
