@@ -110,15 +110,21 @@ struct Robot {
         },
         seconds);
   }
-  bool poseAt(double t, double seconds) {
+  // A ~pose stamped `t` among those received from the `from`-th on (earlier tests may have had
+  // poses at the same stamps).
+  bool poseAt(double t, double seconds, size_t from = 0) {
     return waitFor(
         [&] {
-          for (double s : pose_stamps) {
-            if (std::abs(s - t) < 1e-6) return true;
+          for (size_t i = from; i < pose_stamps.size(); ++i) {
+            if (std::abs(pose_stamps[i] - t) < 1e-6) return true;
           }
           return false;
         },
         seconds);
+  }
+  size_t posesReceived() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return pose_stamps.size();
   }
 };
 

@@ -137,22 +137,12 @@ TEST(SlamRobustness, ALateTransformOfTheLastLoopDoesNotBlockTheNext) {
   late.transform = ros_adapter::toTransformMsg(Pose2(1.65, 0.0, 0.0));
   robot->tf.sendTransform(late);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  size_t poses_before = 0;
-  {
-    std::lock_guard<std::mutex> lock(robot->mutex);
-    poses_before = robot->pose_stamps.size();
-  }
+  const size_t poses_before = robot->posesReceived();
   for (int i = 0; i < 5; ++i) robot->step(100.0 + i);
   // The first scan of the loop, whose transform came before the clear, is dropped; the rest map.
   // (Earlier tests had poses at these stamps: only poses published from here on count.)
-  const auto newPoseAt = [&](double t) {
-    for (size_t i = poses_before; i < robot->pose_stamps.size(); ++i) {
-      if (std::abs(robot->pose_stamps[i] - t) < 1e-6) return true;
-    }
-    return false;
-  };
-  EXPECT_TRUE(robot->waitFor([&] { return newPoseAt(103.0); }, 10.0));
-  EXPECT_TRUE(robot->waitFor([&] { return newPoseAt(104.0); }, 10.0));
+  EXPECT_TRUE(robot->poseAt(103.0, 10.0, poses_before));
+  EXPECT_TRUE(robot->poseAt(104.0, 10.0, poses_before));
 }
 
 TEST(SlamRobustness, SaveMapReportsUnwritableDirectories) {
