@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "evidential_slam/core/sensor_model.h"
+#include "evidential_slam/core/sole_owner.h"
 
 namespace evidential_slam {
 namespace {
@@ -77,7 +78,7 @@ double AnomalyGrid::total() const {
 
 AnomalyNode::~AnomalyNode() {
   std::shared_ptr<const AnomalyNode> next = std::move(parent);
-  while (next && next.use_count() == 1) {
+  while (isSoleOwner(next)) {
     std::shared_ptr<const AnomalyNode> after = std::move(const_cast<AnomalyNode&>(*next).parent);
     next = std::move(after);
   }

@@ -135,7 +135,7 @@ EvidentialGridMap::Tile& EvidentialGridMap::mutableTileSlow(int tx, int ty) {
       tiles_[static_cast<size_t>(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];
   if (!slot) {
     slot = std::make_shared<Tile>();
-  } else if (slot.use_count() > 1) {
+  } else if (!isSoleOwner(slot)) {
     // Shared with another grid: clone before writing. (Another thread may release its copy
     // concurrently; then we clone needlessly, which is harmless.)
     slot = std::make_shared<Tile>(*slot);

@@ -10,6 +10,7 @@
 #include "evidential_slam/core/profile.h"
 #include "evidential_slam/core/scan_matcher.h"
 #include "evidential_slam/core/sensor_model.h"
+#include "evidential_slam/core/sole_owner.h"
 #include "evidential_slam/core/worker_pool.h"
 
 namespace evidential_slam {
@@ -31,7 +32,7 @@ PathNode::~PathNode() {
   // Unlink the chain iteratively: a recursive release of thousands of nodes could overflow the
   // stack.
   std::shared_ptr<const PathNode> next = std::move(parent);
-  while (next && next.use_count() == 1) {
+  while (isSoleOwner(next)) {
     std::shared_ptr<const PathNode> after = std::move(const_cast<PathNode&>(*next).parent);
     next = std::move(after);
   }

@@ -3,6 +3,9 @@
 // Tiles are 32 x 32 cells (kTileBits = 5): tile t covers cells [32 t, 32 t + 31].
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <memory>
+#include <thread>
 #include <unordered_set>
 
 #include "evidential_slam/core/evidential_grid.h"
@@ -226,6 +229,30 @@ TEST(EvidentialGridTest, CopyOnWriteCopyConstruction) {
   EXPECT_EQ(b.cell(2, 1).lambda(), 0.0f);
   EXPECT_EQ(b.cell(1, 1).occupied(), stored(0.9f));
   EXPECT_EQ(a.cell(1, 1).occupied(), stored(0.5f));
+}
+
+// A grid writes a tile in place once the other grids that shared it are gone. Another thread's
+// reads of the tile, made before it released its share, must be ordered before that write; the
+// threads here share nothing else that orders them (the flag is relaxed), so under ThreadSanitizer
+// a missing order is reported as a data race on the cell.
+TEST(EvidentialGridTest, InPlaceWriteIsOrderedAfterAnotherThreadsRelease) {
+  EvidentialGridMap a(0.05);
+  a.mutableCell(1, 1) = storedCell(0.5f, 0.0f, 0.0f);
+  auto sharer = std::make_unique<EvidentialGridMap>(a);
+  std::atomic<bool> released{false};
+  float read_by_sharer = -1.0f;
+  std::thread other([&] {
+    read_by_sharer = sharer->cell(1, 1).occupied();
+    sharer.reset();
+    released.store(true, std::memory_order_relaxed);
+  });
+  while (!released.load(std::memory_order_relaxed)) std::this_thread::yield();
+  const EvidentialGridMap::Tile* before = a.tile(0, 0);
+  a.mutableCell(1, 1) = storedCell(0.9f, 0.0f, 0.0f);
+  EXPECT_EQ(a.tile(0, 0), before);  // a owned the tile alone: no clone
+  other.join();
+  EXPECT_EQ(read_by_sharer, stored(0.5f));
+  EXPECT_EQ(a.cell(1, 1).occupied(), stored(0.9f));
 }
 
 // Copy-on-write with copy assignment into an existing grid, with growth after the copy, and among

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "evidential_slam/core/mass.h"
+#include "evidential_slam/core/sole_owner.h"
 
 namespace evidential_slam {
 
@@ -160,7 +161,7 @@ class EvidentialGridMap {
     const int ix = tx - tile_x0_, iy = ty - tile_y0_;
     if (ix >= 0 && iy >= 0 && ix < tiles_w_ && iy < tiles_h_) {
       std::shared_ptr<Tile>& slot = tiles_[static_cast<size_t>(iy) * tiles_w_ + ix];
-      if (slot && slot.use_count() == 1) return *slot;  // owned: write in place
+      if (isSoleOwner(slot)) return *slot;  // owned: write in place
     }
     return mutableTileSlow(tx, ty);
   }
