@@ -156,27 +156,29 @@ TEST(SlamLocalization, MapToOdomComposedWithOdometryIsThePose) {
   }
   ASSERT_GE(broadcasts.size(), 40u);
   // Post-dated: the stamp is a /clock time (the sender's now) plus exactly the tolerance, which
-  // is no multiple of the clock step; and about the tolerance ahead of the receiver's clock,
-  // which lags or leads the sender's by a few clock steps (0.01 s).
-  double lo = 1e9, hi = -1e9;
+  // is no multiple of the clock step; and, for the typical broadcast, about the tolerance ahead
+  // of the receiver's clock, which lags or leads the sender's by a few clock steps (0.01 s). Some
+  // arrive late (delivery is not timed: under ThreadSanitizer up to 0.46 s of log time), so the
+  // median is checked, the range printed.
+  std::vector<double> ahead;
   size_t on_clock = 0;
   {
     std::lock_guard<std::mutex> lock(seen->mutex);
     for (const auto& b : broadcasts) {
       on_clock += seen->clock_ns.count((b.stamp - ros::Duration(tolerance)).toNSec());
       if (b.now.isZero()) continue;  // received before this process had a /clock
-      const double ahead = (b.stamp - b.now).toSec();
-      lo = std::min(lo, ahead);
-      hi = std::max(hi, ahead);
+      ahead.push_back((b.stamp - b.now).toSec());
     }
   }
   EXPECT_EQ(on_clock, broadcasts.size());
-  EXPECT_GT(lo, tolerance - 0.06);
-  EXPECT_LT(hi, tolerance + 0.06);
+  ASSERT_GE(ahead.size(), broadcasts.size() / 2);
+  std::sort(ahead.begin(), ahead.end());
+  const double median = ahead[ahead.size() / 2];
+  EXPECT_NEAR(median, tolerance, 0.06);
   std::printf(
       "map->odom: %zu of %zu stamps are a /clock time + %.4f s; stamp - receipt time %.3f .. "
-      "%.3f s\n",
-      on_clock, broadcasts.size(), tolerance, lo, hi);
+      "%.3f s, median %.3f s\n",
+      on_clock, broadcasts.size(), tolerance, ahead.front(), ahead.back(), median);
 
   int compared = 0;
   double worst_d = 0.0, worst_a = 0.0;
