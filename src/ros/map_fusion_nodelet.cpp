@@ -233,7 +233,7 @@ bool MapFusionNodelet::fuseOnce() {
       copy.version = r.version;
       copy.stamp = r.stamp;
       copy.estimated_at = r.estimated_at;
-      copy.estimated_version = r.estimated_version;
+      copy.estimated = r.estimated;
       robots.push_back(std::move(copy));
     }
   }
@@ -246,14 +246,16 @@ bool MapFusionNodelet::fuseOnce() {
     const ros::WallTime now = ros::WallTime::now();
     for (size_t i = 1; i < robots.size(); ++i) {
       Robot& r = robots[i];
-      const bool changed = r.version != r.estimated_version;
-      const bool due = !r.has_pose || (changed && (now - r.estimated_at).toSec() >=
-                                                      1.0 / params_.estimation_rate);
-      if (!due) continue;
+      const fusion::AlignmentInputs inputs{r.version, robots[0].name, robots[0].version};
+      if (!fusion::alignmentDue(r.has_pose, r.estimated, r.estimated_at.toSec(), inputs,
+                                now.toSec(), 1.0 / params_.estimation_rate)) {
+        continue;
+      }
+      const bool new_reference = r.estimated.reference != inputs.reference;
       fusion::AlignmentResult result;
       std::string why;
       r.estimated_at = now;
-      r.estimated_version = r.version;
+      r.estimated = inputs;
       if (fusion::alignMaps(*robots[0].map, *r.map, fusion::AlignmentConfig(), &result, &why)) {
         // Grid poses -> map frames: reference grid frame ∘ aligned ∘ this grid frame⁻¹.
         r.pose = robots[0].grid_frame.compose(result.pose).compose(r.grid_frame.inverse());
@@ -262,6 +264,7 @@ bool MapFusionNodelet::fuseOnce() {
                      r.name.c_str(), r.pose.x, r.pose.y, r.pose.theta, robots[0].name.c_str(),
                      result.conflict);
       } else {
+        if (new_reference) r.has_pose = false;  // its pose was in the former reference's frame
         NODELET_WARN_THROTTLE(10.0, "map_fusion: robot %s not aligned yet: %s", r.name.c_str(),
                               why.c_str());
       }
@@ -273,7 +276,7 @@ bool MapFusionNodelet::fuseOnce() {
       it->second.has_pose = r.has_pose;
       it->second.pose = r.pose;
       it->second.estimated_at = r.estimated_at;
-      it->second.estimated_version = r.estimated_version;
+      it->second.estimated = r.estimated;
     }
   }
 

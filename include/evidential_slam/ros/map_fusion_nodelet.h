@@ -18,6 +18,7 @@
 
 #include "evidential_slam/EvidentialGrid.h"
 #include "evidential_slam/core/evidential_grid.h"
+#include "evidential_slam/core/fusion/alignment_schedule.h"
 #include "evidential_slam/core/fusion/combination.h"
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/parameters.h"
@@ -60,8 +61,8 @@ class MapFusionNodelet : public nodelet::Nodelet {
     ros::Subscriber sub;
     bool has_pose = false;   // known or estimated
     Pose2 pose;              // its map frame in world_frame
-    ros::WallTime estimated_at;
-    uint64_t estimated_version = 0;
+    ros::WallTime estimated_at;         // the last alignment attempt
+    fusion::AlignmentInputs estimated;  // and what it aligned
     std::shared_ptr<const EvidentialGridMap> map;  // latest, null before the first message
     Pose2 grid_frame;  // the grid's frame in the robot's map frame (layer origin off the grid)
     uint64_t version = 0;
