@@ -44,19 +44,25 @@ double LikelihoodField::distance(double x, double y) const {
 
 double LikelihoodField::logLikelihood(const Pose2& sensor, const LaserScan& beams,
                                       double sigma_hit, double z_hit, double z_rand) const {
+  return score(sensor, beams, sigma_hit, z_hit, z_rand).log_likelihood;
+}
+
+FieldScore LikelihoodField::score(const Pose2& sensor, const LaserScan& beams, double sigma_hit,
+                                  double z_hit, double z_rand) const {
   const double denominator = 2.0 * sigma_hit * sigma_hit;
   const double uniform = beams.max_range > 0.0f ? z_rand / beams.max_range : 0.0;
   const double c = std::cos(sensor.theta), s = std::sin(sensor.theta);
-  double sum = 0.0;
+  FieldScore out;
   for (size_t i = 0; i < beams.ranges.size(); ++i) {
     const double r = beams.ranges[i];
     const double a = beams.bearings[i];
     const double bx = r * std::cos(a), by = r * std::sin(a);
     const double d = distance(sensor.x + c * bx - s * by, sensor.y + s * bx + c * by);
     const double p = z_hit * std::exp(-d * d / denominator) + uniform;
-    sum += std::log(std::max(p, std::numeric_limits<double>::min()));
+    out.log_likelihood += std::log(std::max(p, std::numeric_limits<double>::min()));
+    out.amcl_weight += p * p * p;
   }
-  return sum;
+  return out;
 }
 
 }  // namespace evidential_slam

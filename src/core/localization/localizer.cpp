@@ -239,8 +239,9 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   const uint64_t step = ++step_;
 
   const Models& models = modelsFor(scan);
-  // The weighed beams: at most laser_max_beams of the hits, evenly spread; their log plausibility
-  // is scaled up to every hit beam's before the temperature (which is calibrated on whole scans).
+  // The weighed beams: at most laser_max_beams of the hits, evenly spread. The beam model's log
+  // plausibility is scaled up to every hit beam's before the temperature (which is calibrated on
+  // whole scans); the field weighs a pose as amcl does (likelihood_field.h), untempered.
   const LaserScan all_hits = ParticleFilter::hitBeamSubset(scan, models.sensor, 1);
   const size_t hits = all_hits.ranges.size();
   const int stride = std::max<int>(
@@ -267,7 +268,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   if (searching_) searching_ = cloudSpread() > slam_.matcher.search_radius;
   const bool match_each = searching_ && !endpoints.empty();
   const size_t n = particles_.size();
-  std::vector<double> log_pl(n, 0.0);
+  std::vector<double> log_pl(n, 0.0), log_weight(n, 0.0);
   std::vector<char> on_map(n, 0);
   pool_->run(n, [&](size_t k, int) {
     Rng rng = Rng::forStream(slam_.seed, step, k);
@@ -278,10 +279,15 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     on_map[k] = onMappedFloor(pose) ? 1 : 0;
     if (used > 0.0) {
       const Pose2 sensor = pose.compose(weighed.sensor_pose);
-      log_pl[k] = field != nullptr
-                      ? field->logLikelihood(sensor, weighed, config_.laser_sigma_hit,
-                                             config_.laser_z_hit, config_.laser_z_rand)
-                      : models.beam.logPlausibility(map_, sensor, weighed, 1);
+      if (field != nullptr) {
+        const FieldScore score = field->score(sensor, weighed, config_.laser_sigma_hit,
+                                              config_.laser_z_hit, config_.laser_z_rand);
+        log_pl[k] = score.log_likelihood;
+        log_weight[k] = std::log(score.amcl_weight);
+      } else {
+        log_pl[k] = models.beam.logPlausibility(map_, sensor, weighed, 1);
+        log_weight[k] = exponent * log_pl[k];
+      }
     }
   });
 
@@ -294,7 +300,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   double max_log = -std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < n; ++k) {
     if (!counts(k)) continue;
-    max_log = std::max(max_log, std::log(particles_[k].weight) + exponent * log_pl[k]);
+    max_log = std::max(max_log, std::log(particles_[k].weight) + log_weight[k]);
   }
   double sum = 0.0, w_avg = 0.0, mean_pl = 0.0;
   for (size_t k = 0; k < n; ++k) {
@@ -302,7 +308,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     w_avg += particles_[k].weight * std::exp(per_beam);
     mean_pl += particles_[k].weight * per_beam;
     particles_[k].weight =
-        counts(k) ? std::exp(std::log(particles_[k].weight) + exponent * log_pl[k] - max_log)
+        counts(k) ? std::exp(std::log(particles_[k].weight) + log_weight[k] - max_log)
                   : 0.0;
     sum += particles_[k].weight;
   }

@@ -86,6 +86,18 @@ TEST(LikelihoodField, LogLikelihoodByHand) {
   for (float& b : turned.bearings) b -= static_cast<float>(M_PI / 2);
   EXPECT_NEAR(field.logLikelihood(Pose2(0.05, 0.25, M_PI / 2), turned, 0.2, 0.95, 0.05),
               -5.514708, 1e-5);
+  // amcl's weight of the same beams: 1 + 0.955^3 + 0.843372^3 + 0.005^3 = 2.470855.
+  const FieldScore score = field.score(Pose2(0.05, 0.25, 0.0), beams, 0.2, 0.95, 0.05);
+  EXPECT_NEAR(score.amcl_weight, 2.470855, 1e-6);
+  EXPECT_NEAR(score.log_likelihood, -5.514708, 1e-5);
+  // The beam off the map costs the product a factor 0.005 but amcl's weight only 0.005^3: without
+  // it the weight is 2.470855 - 1.25e-7, with it at d = 0 it would be 2.470855 + 0.870984.
+  LaserScan two = beams;
+  two.ranges.pop_back();
+  two.bearings.pop_back();
+  two.valid.pop_back();
+  EXPECT_NEAR(field.score(Pose2(0.05, 0.25, 0.0), two, 0.2, 0.95, 0.05).amcl_weight,
+              2.470855 - 1.25e-7, 1e-6);
   // Without the random part a beam far off has likelihood ~0: floored, finite.
   const double no_rand = field.logLikelihood(Pose2(0.05, 0.25, 0.0), beams, 0.01, 1.0, 0.0);
   EXPECT_TRUE(std::isfinite(no_rand));

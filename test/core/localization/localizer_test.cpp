@@ -152,9 +152,9 @@ LocalizationConfig localizationConfig(
 }
 
 // Started 0.4 m and 0.3 rad off with a covariance that covers that, the estimate settles on the
-// truth; KLD-sampling drew hundreds of particles for the spread start and keeps min_particles
-// once the cloud has converged.
-void convergesFromASpreadStart(const std::string& model) {
+// truth; KLD-sampling drew hundreds of particles for the spread start and keeps far fewer once
+// the cloud has converged: within `converged_bins` bins, `shrink` times fewer than at the start.
+void convergesFromASpreadStart(const std::string& model, size_t converged_bins, size_t shrink) {
   Localizer loc(localizationConfig(model), slamConfig());
   ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
   const Route r = route(60);
@@ -176,10 +176,9 @@ void convergesFromASpreadStart(const std::string& model) {
     }
   }
   EXPECT_GT(processed, 30u);
-  // A converged cloud straddles at most one bin border in x, y and heading: at most 8 bins.
-  const size_t converged = kldSampleLimit(8, 0.01, 0.99, 50, 3000);
+  const size_t converged = kldSampleLimit(converged_bins, 0.01, 0.99, 50, 3000);
   EXPECT_LE(loc.particles().size(), converged);
-  EXPECT_LT(4 * loc.particles().size(), initial);
+  EXPECT_LT(shrink * loc.particles().size(), initial);
   EXPECT_LT(loc.estimate().covariance(0, 0), 0.01);
   // The map -> odom correction maps the odometry onto the estimate.
   const Pose2 on_map = loc.mapToOdom().compose(r.odometry.back());
@@ -187,18 +186,23 @@ void convergesFromASpreadStart(const std::string& model) {
   EXPECT_EQ(loc.trajectory().size(), r.truth.size());
 }
 
-// The default model (beam).
+// The default model (beam): a converged cloud straddles at most one bin border in x, y and
+// heading, at most 8 bins.
 TEST(Localizer, ConvergesFromASpreadStartAndShrinksTheCloud) {
-  convergesFromASpreadStart(LocalizationConfig().laser_model_type);
+  convergesFromASpreadStart(LocalizationConfig().laser_model_type, 8, 4);
 }
 
+// amcl's weight 1 + Σ p^3 is flat near the optimum (a beam ending 0.1 m off a wall keeps
+// (0.84 / 0.955)^3 = 0.68 of its share), so the cloud stays about 0.1 m wide (covariance
+// 0.006-0.008 m^2 here against 0.0003 with the beam model): twice the bins.
 TEST(Localizer, LikelihoodFieldConvergesFromASpreadStartAndTracks) {
-  convergesFromASpreadStart("likelihood_field");
+  convergesFromASpreadStart("likelihood_field", 16, 2);
 }
 
 // Global localization in the asymmetric room: max_particles over its free space, the estimate on
-// the truth within a few updates, and the cloud shrinks as KLD-sampling asks.
-void globalLocalization(const std::string& model) {
+// the truth within a few updates, and the cloud shrinks as KLD-sampling asks: below 600 particles
+// from update `shrunk_by` on.
+void globalLocalization(const std::string& model, size_t shrunk_by) {
   LocalizationConfig c = localizationConfig(model);
   c.max_particles = 2000;
   Localizer loc(c, slamConfig());
@@ -220,19 +224,22 @@ void globalLocalization(const std::string& model) {
     if (i >= 15) {
       EXPECT_LT(distance(loc.estimate().mean, inMap(r.truth[i])), 0.05) << i;
     }
+    if (i >= shrunk_by) {
+      EXPECT_LT(loc.particles().size(), 600u) << i;
+    }
   }
   EXPECT_LE(loc.particles().size(), kldSampleLimit(8, 0.01, 0.99, 50, 2000));
-  // From the first resampling on, the scans have singled the pose out: far fewer particles.
-  EXPECT_LT(loc.stats().max_particles_used, 600u);
 }
 
-// The default model (beam).
+// The default model (beam): from the first resampling on, the scans have singled the pose out.
 TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
-  globalLocalization(LocalizationConfig().laser_model_type);
+  globalLocalization(LocalizationConfig().laser_model_type, 0);
 }
 
+// amcl's weight bounds what one scan can single out (at most 1 + 30 p^3 against 1 over 30 beams),
+// so the cloud of 2000 takes a few updates more to shrink.
 TEST(Localizer, LikelihoodFieldGlobalLocalizationInAnAsymmetricRoom) {
-  globalLocalization("likelihood_field");
+  globalLocalization("likelihood_field", 8);
 }
 
 // Scans within update_min_d and update_min_a of the last update only move the estimate by the
@@ -389,6 +396,45 @@ TEST(Localizer, LikelihoodFieldWeighsTheBeams) {
   Localizer beam(localizationConfig("beam"), slam);
   ASSERT_TRUE(beam.setMap(with_block, nullptr));
   EXPECT_GT(std::abs(measured(&beam) - on_block_map), 0.01);
+}
+
+// With likelihood_field, one update (no resampling yet) leaves each particle's weight in
+// proportion to amcl's 1 + Σ p^3 of the weighed beams at its pose, not tempered by
+// likelihood_temperature and not the product of the p.
+TEST(Localizer, LikelihoodFieldWeightsAreAmclsUntempered) {
+  const Pose2 room(-0.5, 0.4, 0.3);
+  const LaserScan scan = blockRoomScan(room, 1.0, true);
+  const SlamConfig slam = slamConfig();
+  const EvidentialGridMap map = roomMap(true);
+  LocalizationConfig config = localizationConfig("likelihood_field");
+  config.resample_interval = 2;
+  const SensorModelConfig sensor = slam.sensor.forSensorNoise(0.0, map.resolution());
+  const size_t hits = ParticleFilter::hitBeamSubset(scan, sensor, 1).ranges.size();
+  const int stride = static_cast<int>(
+      std::ceil(static_cast<double>(hits) / config.laser_max_beams));
+  const LaserScan weighed = ParticleFilter::hitBeamSubset(scan, sensor, stride);
+  Localizer loc(config, slam);
+  ASSERT_TRUE(loc.setMap(map, nullptr));
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  cov.diagonal() << 0.01, 0.01, 0.01;
+  ASSERT_TRUE(loc.resetAt(inMap(room), cov, nullptr));
+  ASSERT_TRUE(loc.processScan(Pose2(0, 0, 0), scan).processed);
+  const std::vector<LocalizationParticle>& particles = loc.particles();
+  ASSERT_GT(particles.size(), 10u);
+  const LikelihoodField field(map, config.laser_likelihood_max_dist);
+  const auto score = [&](const Pose2& pose) {
+    return field.score(pose.compose(weighed.sensor_pose), weighed, config.laser_sigma_hit,
+                       config.laser_z_hit, config.laser_z_rand);
+  };
+  const FieldScore first = score(particles[0].pose);
+  double spread = 0.0;
+  for (const LocalizationParticle& p : particles) {
+    const FieldScore s = score(p.pose);
+    EXPECT_NEAR(p.weight / particles[0].weight, s.amcl_weight / first.amcl_weight, 1e-9);
+    spread = std::max(spread, std::abs(s.log_likelihood - first.log_likelihood));
+  }
+  // The particles differ enough that a product of the p would have weighed them otherwise.
+  EXPECT_GT(spread, 1.0);
 }
 
 TEST(Localizer, RefusesBadInput) {

@@ -6,8 +6,10 @@
 // told from unexplored space it reached freely (docs/decisions.md). The field holds, per cell of
 // the map's observed box, the distance to the nearest plausible end, capped at max_dist; it is
 // computed once per map, since localization never writes the map. A beam ending at distance d
-// from one has the likelihood z_hit exp(-d^2 / (2 sigma_hit^2)) + z_rand / range_max (amcl's
-// unnormalised Gaussian).
+// from one has the likelihood p = z_hit exp(-d^2 / (2 sigma_hit^2)) + z_rand / range_max (amcl's
+// unnormalised Gaussian). A scan weighs a pose as amcl's likelihood_field does, 1 + Σ p^3, not by
+// the product of the p: a beam the map cannot explain (unmapped space, an object not in the map)
+// then costs the pose at most that beam's share instead of ln(z_rand / range_max) each.
 #pragma once
 
 #include <vector>
@@ -18,6 +20,12 @@
 #include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
+
+// What a scan scores at one pose.
+struct FieldScore {
+  double log_likelihood = 0.0;  // Σ ln p over the beams (the plausibility the filter reports)
+  double amcl_weight = 1.0;     // 1 + Σ p^3 (amcl's weight of the pose)
+};
 
 class LikelihoodField {
  public:
@@ -40,6 +48,9 @@ class LikelihoodField {
   // as the smallest positive double.
   double logLikelihood(const Pose2& sensor, const LaserScan& beams, double sigma_hit,
                        double z_hit, double z_rand) const;
+  // Both sums over the beams of `beams`, p as for logLikelihood, in one pass.
+  FieldScore score(const Pose2& sensor, const LaserScan& beams, double sigma_hit, double z_hit,
+                   double z_rand) const;
 
  private:
   CellBox box_;

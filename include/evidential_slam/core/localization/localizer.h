@@ -1,9 +1,10 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
 // only; each update samples the odometry motion model (the proposal, as amcl's; after a global
 // localization, until the cloud has narrowed to the scan matcher's search radius, each sample is
-// also scan-matched), weighs the samples on at most laser_max_beams hit beams, tempered like the
-// SLAM's weights, by laser_model_type's model: likelihood_field (LikelihoodField, computed once
-// per map) or beam (the evidential forward model, BeamModel) and never writes the map. Every
+// also scan-matched), weighs the samples on at most laser_max_beams hit beams by
+// laser_model_type's model: likelihood_field (LikelihoodField, computed once per map; amcl's
+// weight 1 + Σ p^3) or beam (the evidential forward model, BeamModel, tempered like the SLAM's
+// weights) and never writes the map. Every
 // resample_interval updates the particles are resampled with KLD-sampling, which adapts their
 // number to the spread of the cloud between min_particles and max_particles; with
 // recovery_alpha_slow/_fast, random poses from the map's free space are added when the scans'
