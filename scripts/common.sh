@@ -41,6 +41,8 @@ if command -v ccache >/dev/null 2>&1 && [[ "${ES_NO_CCACHE:-0}" != 1 ]]; then
   export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$REPO}"
   # A rebuild after a header edit compiles the same sources with new contents: never stale.
   export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
+  # The test programs compile with a precompiled header (cmake/TestPrecompiledHeaders.cmake).
+  export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"
 fi
 OFFLINE_BIN="$WS/devel/lib/$PKG/evidential_slam_offline"
 JOBS="${JOBS:-2}"
