@@ -34,6 +34,14 @@ case "${ES_SANITIZE:-}" in
     exit 1
     ;;
 esac
+# ccache, when installed, caches compilations across rebuilds, workspaces and worktrees: paths
+# under the repository are hashed relative to it (CCACHE_BASEDIR), so two clones share entries.
+if command -v ccache >/dev/null 2>&1 && [[ "${ES_NO_CCACHE:-0}" != 1 ]]; then
+  CATKIN_ARGS+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$REPO}"
+  # A rebuild after a header edit compiles the same sources with new contents: never stale.
+  export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
+fi
 OFFLINE_BIN="$WS/devel/lib/$PKG/evidential_slam_offline"
 JOBS="${JOBS:-2}"
 
