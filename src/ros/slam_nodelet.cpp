@@ -103,6 +103,7 @@ void SlamNodelet::onInit() {
     return;
   }
   worker_->setResetSaveRoot(resetSaveRoot());
+  worker_->setLive(params_.live);
   if (!startFromParameters(&why)) {
     NODELET_FATAL("evidential_slam: %s; the SLAM does not start", why.c_str());
     worker_.reset();
@@ -599,6 +600,7 @@ void SlamNodelet::heartbeat(diagnostic_updater::DiagnosticStatusWrapper& status)
   status.add("latency last (s)", w.last_latency_s);
   status.add("latency max (s)", w.max_latency_s);
   status.add("dropped: queue full", w.queue_full_drops);
+  status.add("skipped: live mode", w.skipped);
   status.add("dropped: malformed", malformed);
   status.add("dropped: no transform", without_tf);
   status.add("dropped: older stamp", w.dropped);

@@ -25,7 +25,7 @@ TEST(SlamFinalMap, TheLastScanReachesTheMapAfterTheClockStops) {
         std::lock_guard<std::mutex> lock(mutex);
         map_stamps.push_back(m->header.stamp.toSec());
       });
-  // Every scan is processed (0.01 m per scan, update_min_distance 0.005 m).
+  // Each scan the filter takes is processed (0.01 m per scan, update_min_distance 0.005 m).
   const double last = 101.9;
   for (int i = 0; i <= 19; ++i) robot->step(100.0 + 0.1 * i);
   // The clock stands at 101.9 from now on: only the wall-time timer can send the last map.
