@@ -24,7 +24,7 @@ if(ES_FUZZER_BIN)
     BUILD_BYPRODUCTS ${ES_FUZZ_BINS})
 endif()
 
-catkin_add_gtest(test_fuzz_smoke test/fuzz/fuzz_smoke_test.cpp test/io/test_main.cpp TIMEOUT 900)
+catkin_add_gtest(test_fuzz_smoke test/fuzz/fuzz_smoke_test.cpp test/io/test_main.cpp)
 target_include_directories(test_fuzz_smoke PRIVATE test/io)
 target_compile_definitions(test_fuzz_smoke PRIVATE
   ES_FUZZ_DIR="$<$<BOOL:${ES_FUZZER_BIN}>:${ES_FUZZ_DIR}>"

@@ -32,8 +32,7 @@ if(CATKIN_ENABLE_TESTING)
 
   # Mapping the fixture in one go and in two halves through a saved file (the session library is
   # defined after this file is included; CMake resolves the name at generation).
-  catkin_add_gtest(test_map_continue test/io/map_continue_test.cpp test/io/test_main.cpp
-    TIMEOUT 300)
+  catkin_add_gtest(test_map_continue test/io/map_continue_test.cpp test/io/test_main.cpp)
   target_link_libraries(test_map_continue evidential_slam_session)
   target_compile_definitions(test_map_continue PRIVATE ${MAP_FILE_TEST_DEFINITIONS}
     ES_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
@@ -74,8 +73,7 @@ if(CATKIN_ENABLE_TESTING)
     add_dependencies(map_file_fuzzer evidential_slam_build_info)
   endif()
 
-  catkin_add_gtest(test_map_file_fuzz test/io/map_file_fuzz_test.cpp test/io/test_main.cpp
-    TIMEOUT 300)
+  catkin_add_gtest(test_map_file_fuzz test/io/map_file_fuzz_test.cpp test/io/test_main.cpp)
   target_link_libraries(test_map_file_fuzz evidential_slam_io)
   target_compile_definitions(test_map_file_fuzz PRIVATE ${MAP_FILE_TEST_DEFINITIONS}
     ES_FUZZER_BIN="${ES_MAP_FUZZER_BIN}"

@@ -36,8 +36,7 @@ if(CATKIN_ENABLE_TESTING)
     ES_COMPARE_OCTREES="${ES_COMPARE_OCTREES}")
 
   catkin_add_gtest(test_octomap
-    test/io/octomap_tree_test.cpp test/io/octomap_tools_test.cpp test/io/test_main.cpp
-    TIMEOUT 300)
+    test/io/octomap_tree_test.cpp test/io/octomap_tools_test.cpp test/io/test_main.cpp)
   target_link_libraries(test_octomap evidential_slam_octomap nlohmann_json::nlohmann_json)
   target_compile_definitions(test_octomap PRIVATE ${OCTOMAP_TEST_DEFINITIONS})
   add_dependencies(test_octomap evidential_slam_offline evidential_octomap_info
@@ -96,8 +95,7 @@ if(CATKIN_ENABLE_TESTING)
     add_custom_target(evidential_octree_fuzzer DEPENDS "${ES_FUZZER_BIN}")
   endif()
 
-  catkin_add_gtest(test_octomap_fuzz test/io/octomap_fuzz_test.cpp test/io/test_main.cpp
-    TIMEOUT 300)
+  catkin_add_gtest(test_octomap_fuzz test/io/octomap_fuzz_test.cpp test/io/test_main.cpp)
   target_link_libraries(test_octomap_fuzz evidential_slam_octomap)
   target_compile_definitions(test_octomap_fuzz PRIVATE ${OCTOMAP_TEST_DEFINITIONS}
     ES_FUZZER_BIN="${ES_FUZZER_BIN}"

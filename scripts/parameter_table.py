@@ -8,7 +8,8 @@ Markdown tables of the docs made from them.
                                                fail when a generated block differs
 
 A generated block lies between `<!-- BEGIN GENERATED: NAME -->` and `<!-- END GENERATED: NAME -->`,
-NAME a key of BLOCKS (e.g. `parameters`: the SLAM's lists, `explorer-parameters`: the explorer's,
+NAME a key of BLOCKS (e.g. `basic-parameters`: the SLAM node's basic rows, `parameters`: all of
+its lists, basic rows in bold, `explorer-parameters`: the explorer's,
 `monitor-parameters`: exploration_monitor's); a file holds one or more. cfg/EvidentialSlam.cfg imports this module too.
 """
 import csv
@@ -36,13 +37,8 @@ SLAM_GROUPS = [
     ("LOCALIZATION", "localization", "Localization mode"),
     ("NODE", "node", "ROS node only"),
 ]
-# What a user sets on a robot: the README's table.
-TUNING_KEYS = ("MOTION_MODEL", "SCAN_MATCHER", "LONG_STEP", "CONFLICT_ALARM")
-# Localization on a saved map, documented in docs/localization.md.
+# Localization on a saved map, documented in docs/localization.md (and in docs/parameters.md).
 LOCALIZATION_KEYS = ("LOCALIZATION",)
-GROUPS = [g for g in SLAM_GROUPS if g[0] not in TUNING_KEYS + LOCALIZATION_KEYS]
-# The filter's finer settings, documented in docs/parameters.md.
-TUNING_GROUPS = [g for g in SLAM_GROUPS if g[0] in TUNING_KEYS]
 # The map fusion node, documented in docs/fusion.md.
 FUSION_GROUPS = [("MAP_FUSION", "map_fusion", "Map fusion node (map_fusion)")]
 # The explorer's lists (core/exploration, the explorer node), documented in docs/exploration.md.
@@ -57,11 +53,15 @@ EXPLORER_GROUPS = [
 # exploration_monitor (the measuring harness of explore.launch), documented in docs/exploration.md.
 MONITOR_GROUPS = [("EXPLORATION_MONITOR", "exploration_monitor", "exploration_monitor")]
 LOCALIZATION_GROUPS = [g for g in SLAM_GROUPS if g[0] in LOCALIZATION_KEYS]
-BLOCKS = {"parameters": GROUPS, "tuning-parameters": TUNING_GROUPS,
+# The SLAM node's basic rows (tier `basic`) in one table: the README's; docs/parameters.md has
+# every row of the SLAM node's lists, basic and advanced.
+BASIC_GROUPS = [("BASIC", "basic", "Basic parameters")]
+BLOCKS = {"basic-parameters": BASIC_GROUPS, "parameters": SLAM_GROUPS,
           "localization-parameters": LOCALIZATION_GROUPS,
           "fusion-parameters": FUSION_GROUPS, "explorer-parameters": EXPLORER_GROUPS,
           "monitor-parameters": MONITOR_GROUPS}
-FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "meaning"]
+FIELDS = ["ctx", "name", "member", "type", "default", "min", "max", "unit", "scope", "tier",
+          "meaning"]
 
 
 class Row(dict):
@@ -85,6 +85,8 @@ def rows(path=DEF_FILE):
                 raise ValueError("%s: a row with %d cells: %s" % (path, len(cells), line))
             row = Row(zip(FIELDS, [c.strip() for c in cells]))
             row["group"] = group
+            if row.tier not in ("basic", "advanced"):
+                raise ValueError("%s: tier must be basic or advanced: %s" % (path, line))
             result.append(row)
     return result
 
@@ -112,11 +114,19 @@ def range_text(row):
     return "%s – %s" % (row.min, row.max)
 
 
-def markdown(groups=GROUPS):
+def slam_rows(key, all_rows):
+    """The rows of list `key`; BASIC: the basic rows of every SLAM node list."""
+    if key == "BASIC":
+        slam = [g[0] for g in SLAM_GROUPS]
+        return [r for r in all_rows if r.group in slam and r.tier == "basic"]
+    return [r for r in all_rows if r.group == key]
+
+
+def markdown(groups=SLAM_GROUPS):
     out = []
     all_rows = rows()
     for key, _, title in groups:
-        group = [r for r in all_rows if r.group == key]
+        group = slam_rows(key, all_rows)
         if not group:
             continue
         out.append("**%s**\n" % title)
@@ -124,8 +134,9 @@ def markdown(groups=GROUPS):
         out.append("|---|---|---|---|---|---|")
         for r in group:
             meaning = r.meaning + ("" if r.scope == "runtime" else " *(start-up only)*")
-            out.append("| `%s` | %s | %s | %s | %s | %s |" % (
-                r.name, r.type.replace("std::", ""), default_text(r), range_text(r), r.unit,
+            name = ("**`%s`**" if r.tier == "basic" and key != "BASIC" else "`%s`") % r.name
+            out.append("| %s | %s | %s | %s | %s | %s |" % (
+                name, r.type.replace("std::", ""), default_text(r), range_text(r), r.unit,
                 meaning.replace("|", "\\|")))
         out.append("")
     return "\n".join(out).rstrip("\n") + "\n"

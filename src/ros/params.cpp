@@ -1,4 +1,5 @@
 #include "evidential_slam/ros/params.h"
+#include "evidential_slam/ros/gmapping_names.h"
 #include "evidential_slam/ros/parameter_text.h"
 
 #include <cstdio>
@@ -12,7 +13,7 @@ namespace {
 
 // The run-time rows bound to their field of the generated dynamic_reconfigure struct:
 // visit(field, cfg_field). Start-up rows have no cfg field.
-#define ES_BIND_RECONFIGURE(ctx, name, member, type, def, min, max, unit, scope, meaning) \
+#define ES_BIND_RECONFIGURE(ctx, name, member, type, def, min, max, unit, scope, tier, meaning) \
   ES_BIND_RECONFIGURE_##scope(ctx, name, member)
 #define ES_BIND_RECONFIGURE_runtime(ctx, name, member) visit((ctx).member, cfg.name);
 #define ES_BIND_RECONFIGURE_startup(ctx, name, member)
@@ -72,14 +73,67 @@ bool NodeParams::isValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// Exact (what the parser reads) or short (what the log shows).
+std::string numberText(double v, bool exact = true) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof(buffer), exact ? "%.17g" : "%g", v);
+  return buffer;
+}
+
+// Sets `field` (the parameter `spec`) from gmapping's `row` given as `value`. A value that is not
+// a number, or out of our range once converted, is reported and leaves the field as it was.
+template <typename Field>
+void readGmappingName(const GmappingName& row, const ParameterSpec& spec,
+                      XmlRpc::XmlRpcValue& value, Field* field, GmappingReport* report) {
+  double theirs = 0.0;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    theirs = static_cast<int>(value);
+  } else if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    theirs = static_cast<double>(value);
+  } else {
+    report->refused.push_back(std::string("gmapping's ") + row.theirs + " must be a number; " +
+                              spec.name + " keeps its value");
+    return;
+  }
+  const double ours = convertGmappingValue(row, theirs);
+  const std::string text = numberText(ours);
+  Field converted = *field;
+  std::string why;
+  if (!parseParameter(spec, text, &converted, &why)) {
+    report->refused.push_back(std::string("gmapping's ") + row.theirs + " = " +
+                              numberText(theirs, false) + " refused (" + why + "); " + spec.name +
+                              " keeps its value");
+    return;
+  }
+  *field = converted;
+  report->used.push_back(std::string(row.theirs) + " -> " + spec.name + " = " +
+                         numberText(ours, false));
+}
+
+}  // namespace
+
 bool readParams(const ros::NodeHandle& nh, NodeParams* params, std::string* why,
-                std::vector<std::string>* unknown) {
+                std::vector<std::string>* unknown, GmappingReport* gmapping) {
   bool ok = true;
+  GmappingReport report;
   std::vector<std::string> known;
   forEachNodeParameter(*params, [&](const ParameterSpec& spec, auto& field) {
     known.push_back(spec.name);
     XmlRpc::XmlRpcValue value;
-    if (!ok || !nh.getParam(spec.name, value)) return;
+    if (!ok) return;
+    if (!nh.getParam(spec.name, value)) {
+      // slam_gmapping's name for it, when ours is not given.
+      for (const GmappingName& row : gmappingNames()) {
+        const bool converts = row.conversion == GmappingName::Conversion::kLinear ||
+                              row.conversion == GmappingName::Conversion::kSquare;
+        if (converts && spec.name == std::string(row.ours) && nh.getParam(row.theirs, value)) {
+          readGmappingName(row, spec, value, &field, &report);
+        }
+      }
+      return;
+    }
     std::string text;
     if (!parameterText(value, &text)) {
       ok = false;
@@ -88,6 +142,15 @@ bool readParams(const ros::NodeHandle& nh, NodeParams* params, std::string* why,
     }
     ok = parseParameter(spec, text, &field, why);
   });
+  for (const GmappingName& row : gmappingNames()) {
+    if (!nh.hasParam(row.theirs)) continue;
+    if (row.conversion == GmappingName::Conversion::kNone) {
+      report.ignored.push_back(row.theirs);
+    } else if (row.conversion != GmappingName::Conversion::kSame && nh.hasParam(row.ours)) {
+      report.shadowed.push_back(std::string(row.theirs) + " (" + row.ours + " is given)");
+    }
+  }
+  if (gmapping != nullptr) *gmapping = report;
   if (unknown != nullptr) {
     std::vector<std::string> names;
     const std::string prefix = nh.getNamespace() + "/";
@@ -95,7 +158,7 @@ bool readParams(const ros::NodeHandle& nh, NodeParams* params, std::string* why,
       for (const std::string& n : names) {
         if (n.compare(0, prefix.size(), prefix) != 0) continue;
         const std::string name = n.substr(prefix.size());
-        bool is_known = false;
+        bool is_known = findGmappingName(name) != nullptr;
         for (const std::string& k : known) is_known = is_known || name == k;
         if (!is_known) unknown->push_back(name);
       }

@@ -58,6 +58,7 @@ SlamNodelet::~SlamNodelet() {
   scan_filter_.reset();
   scan_sub_.reset();
   map_timer_.stop();
+  map_wall_timer_.stop();
   tf_timer_.stop();
   tf_watchdog_.stop();
   worker_.reset();
@@ -69,7 +70,8 @@ void SlamNodelet::onInit() {
   private_nh_ = getPrivateNodeHandle();
   std::string why;
   std::vector<std::string> unknown;
-  if (!readParams(private_nh_, &params_, &why, &unknown) || !params_.isValid(&why)) {
+  GmappingReport gmapping;
+  if (!readParams(private_nh_, &params_, &why, &unknown, &gmapping) || !params_.isValid(&why)) {
     NODELET_FATAL("evidential_slam: invalid parameters: %s; the SLAM does not start", why.c_str());
     return;
   }
@@ -78,6 +80,7 @@ void SlamNodelet::onInit() {
     NODELET_WARN("evidential_slam: '%s' is not a parameter of evidential_slam (ignored)",
                  name.c_str());
   }
+  logGmappingReport(gmapping);
 
   SlamWorker::Callbacks callbacks;
   callbacks.on_scan = [this](const MappingSession& session, const SessionScanResult& result) {
@@ -100,6 +103,7 @@ void SlamNodelet::onInit() {
     return;
   }
   worker_->setResetSaveRoot(resetSaveRoot());
+  worker_->setLive(params_.live);
   if (!startFromParameters(&why)) {
     NODELET_FATAL("evidential_slam: %s; the SLAM does not start", why.c_str());
     worker_.reset();
@@ -143,11 +147,26 @@ void SlamNodelet::onInit() {
 
   reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<EvidentialSlamConfig>>(
       reconfigure_mutex_, private_nh_);
+  // The server starts from the parameter server, which lacks what came from gmapping's names:
+  // give it the values read, before its first callback applies them.
+  reconfigure_server_->updateConfig(toReconfigure(params_));
   reconfigure_server_->setCallback(
       [this](EvidentialSlamConfig& config, uint32_t level) { onReconfigure(config, level); });
 
   map_timer_ = nh_.createTimer(ros::Duration(params_.map_update_interval),
-                               [this](const ros::TimerEvent&) { map_publisher_->requestUpdate(); });
+                               [this](const ros::TimerEvent&) { requestMapUpdate(); });
+  // ROS time stops with a bag's /clock while the filter still works through its queue: on wall
+  // time, a map at least every map_update_interval (an unchanged map is not sent again).
+  map_wall_timer_ =
+      nh_.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) {
+        double interval = 0.0;
+        {
+          std::lock_guard<std::mutex> lock(params_mutex_);
+          interval = params_.map_update_interval;
+        }
+        if ((ros::WallTime::now() - last_map_request_.load()).toSec() >= interval)
+          requestMapUpdate();
+      });
   if (params_.transform_publish_period > 0.0) {
     tf_timer_ = nh_.createTimer(ros::Duration(params_.transform_publish_period),
                                 &SlamNodelet::publishTransform, this);
@@ -188,6 +207,33 @@ void SlamNodelet::onInit() {
       "evidential_slam: %d particles, %.3f m cells; frames %s -> %s -> %s; listening on %s",
       params_.slam.particles, params_.slam.resolution, params_.map_frame.c_str(),
       params_.odom_frame.c_str(), params_.base_frame.c_str(), nh_.resolveName("scan").c_str());
+}
+
+void SlamNodelet::requestMapUpdate() {
+  last_map_request_ = ros::WallTime::now();
+  map_publisher_->requestUpdate();
+}
+
+void SlamNodelet::logGmappingReport(const GmappingReport& report) {
+  auto joined = [](const std::vector<std::string>& items) {
+    std::string text;
+    for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
+    return text;
+  };
+  if (!report.used.empty()) {
+    NODELET_INFO("evidential_slam: slam_gmapping's names read: %s", joined(report.used).c_str());
+  }
+  if (!report.shadowed.empty()) {
+    NODELET_WARN("evidential_slam: our name wins where both are given; ignored: %s",
+                 joined(report.shadowed).c_str());
+  }
+  if (!report.ignored.empty()) {
+    NODELET_WARN(
+        "evidential_slam: slam_gmapping parameters without a counterpart here, ignored "
+        "(docs/ros.md, gmapping's parameters, says why): %s",
+        joined(report.ignored).c_str());
+  }
+  for (const std::string& line : report.refused) NODELET_WARN("evidential_slam: %s", line.c_str());
 }
 
 void SlamNodelet::onScanWithoutTransform(
@@ -554,6 +600,7 @@ void SlamNodelet::heartbeat(diagnostic_updater::DiagnosticStatusWrapper& status)
   status.add("latency last (s)", w.last_latency_s);
   status.add("latency max (s)", w.max_latency_s);
   status.add("dropped: queue full", w.queue_full_drops);
+  status.add("skipped: live mode", w.skipped);
   status.add("dropped: malformed", malformed);
   status.add("dropped: no transform", without_tf);
   status.add("dropped: older stamp", w.dropped);

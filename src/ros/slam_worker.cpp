@@ -40,6 +40,11 @@ bool SlamWorker::push(const Pose2& odometry, const LaserScan& scan) {
   return true;
 }
 
+void SlamWorker::setLive(bool live) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  live_ = live;
+}
+
 bool SlamWorker::reconfigure(const Parameters& params, std::string* why) {
   if (!params.isValid(why)) return false;
   {
@@ -199,6 +204,11 @@ void SlamWorker::run() {
       task();
       lock.lock();
     } else if (!queue_.empty()) {
+      // Live: skip to the newest of the scans waiting before the next restart request.
+      while (live_ && queue_.size() > 1 && queue_[0].restart.empty() && queue_[1].restart.empty()) {
+        queue_.pop_front();
+        ++stats_.skipped;
+      }
       Item item = std::move(queue_.front());
       queue_.pop_front();
       lock.unlock();

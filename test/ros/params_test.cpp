@@ -3,13 +3,17 @@
 // run-time row is a cfg field, and parameters survive the round trip through the cfg struct.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <dynamic_reconfigure/Config.h>
 
+#include "evidential_slam/ros/gmapping_names.h"
 #include "evidential_slam/ros/params.h"
 
 namespace evidential_slam {
@@ -72,9 +76,8 @@ TEST(Params, RuntimeParametersAreTheReconfigureFields) {
   const dynamic_reconfigure::Config defaults = asMessage(toReconfigure(NodeParams()));
   std::vector<ParameterSpec> specs;
   NodeParams scratch;
-  forEachNodeParameter(scratch, [&specs](const ParameterSpec& spec, auto&) {
-    specs.push_back(spec);
-  });
+  forEachNodeParameter(scratch,
+                       [&specs](const ParameterSpec& spec, auto&) { specs.push_back(spec); });
   size_t runtime = 0;
   for (const ParameterSpec& spec : specs) {
     const std::string name = spec.name;
@@ -129,8 +132,8 @@ TEST(Params, RuntimeParametersAreTheReconfigureFields) {
     EXPECT_EQ(parameterValues(via_reconfigure), parameterValues(via_name)) << name;
     EXPECT_NE(parameterValues(via_name), parameterValues(NodeParams())) << name;
   }
-  const size_t fields = defaults.doubles.size() + defaults.ints.size() +
-                        defaults.bools.size() + defaults.strs.size();
+  const size_t fields =
+      defaults.doubles.size() + defaults.ints.size() + defaults.bools.size() + defaults.strs.size();
   EXPECT_EQ(fields, runtime);  // and nothing else in the cfg
   EXPECT_GT(runtime, 50u);
 }
@@ -167,6 +170,39 @@ TEST(Params, ModeAndItsMap) {
   p.localization.min_particles = 6000;  // above max_particles
   EXPECT_FALSE(p.isValid(&why));
   EXPECT_EQ(why, "min_particles must not be above max_particles");
+}
+
+// Every counterpart in the gmapping table is a parameter of ours, and docs/ros.md lists each row.
+TEST(Params, GmappingTableNamesOurParametersAndIsDocumented) {
+  std::vector<std::string> ours;
+  NodeParams p;
+  forEachNodeParameter(p, [&](const ParameterSpec& spec, auto&) { ours.push_back(spec.name); });
+  std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../docs/ros.md");
+  ASSERT_TRUE(in.good());
+  std::stringstream doc;
+  doc << in.rdbuf();
+  for (const GmappingName& row : gmappingNames()) {
+    const std::string counterpart = row.ours;
+    if (row.conversion == GmappingName::Conversion::kNone) {
+      EXPECT_TRUE(counterpart.empty()) << row.theirs;
+    } else {
+      EXPECT_NE(std::find(ours.begin(), ours.end(), counterpart), ours.end()) << row.theirs;
+    }
+    const std::string line = std::string("| `") + row.theirs + "` | " +
+                             (counterpart.empty() ? "not used" : "`" + counterpart + "`") + " |";
+    EXPECT_NE(doc.str().find(line), std::string::npos) << line;
+  }
+  EXPECT_EQ(findGmappingName("maxUrange")->ours, std::string("usable_range"));
+  EXPECT_EQ(findGmappingName("usable_range"), nullptr);
+}
+
+// Hand-computed conversions: squares for the motion noise (srt halved), lskip + 1.
+TEST(Params, GmappingConversions) {
+  EXPECT_DOUBLE_EQ(convertGmappingValue(*findGmappingName("srr"), 0.1), 0.01);
+  EXPECT_DOUBLE_EQ(convertGmappingValue(*findGmappingName("srt"), 0.2), 0.02);
+  EXPECT_DOUBLE_EQ(convertGmappingValue(*findGmappingName("stt"), 0.2), 0.04);
+  EXPECT_DOUBLE_EQ(convertGmappingValue(*findGmappingName("lskip"), 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(convertGmappingValue(*findGmappingName("maxUrange"), 6.0), 6.0);
 }
 
 }  // namespace

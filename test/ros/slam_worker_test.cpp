@@ -215,6 +215,70 @@ TEST(SlamWorker, FullQueueRefusesScans) {
   EXPECT_EQ(rec.stamps, (std::vector<double>{1.0, 2.0}));
 }
 
+// Live mode: scans that waited while the filter was busy are skipped for the newest, whose
+// odometry spans the gap; a restart request is not skipped over. Without it, every scan in order.
+TEST(SlamWorker, LiveModeSkipsToTheNewestScan) {
+  for (const bool live : {true, false}) {
+    Recorder rec;
+    SlamWorker worker(smallConfig(), 100, rec.callbacks());
+    worker.setLive(live);
+    std::promise<void> release;
+    std::shared_future<void> released = release.get_future().share();
+    std::atomic<bool> task_running{false};
+    std::thread blocker([&] {
+      worker.runOnWorker([&](const MappingSession&) {
+        task_running = true;
+        released.wait();
+      });
+    });
+    while (!task_running) std::this_thread::yield();
+    for (int i = 0; i < 5; ++i) {
+      const Pose2 odom(0.1 * i, 0.0, 0.0);
+      ASSERT_TRUE(worker.push(odom, roomScan(odom, 10.0 + i)));
+    }
+    release.set_value();
+    blocker.join();
+    worker.waitIdle();
+    if (live) {
+      EXPECT_EQ(rec.stamps, (std::vector<double>{14.0}));
+      EXPECT_EQ(worker.stats().skipped, 4u);
+      ASSERT_EQ(rec.processed.size(), 1u);
+      EXPECT_TRUE(rec.processed[0]);  // the first scan of the SLAM
+    } else {
+      EXPECT_EQ(rec.stamps, (std::vector<double>{10.0, 11.0, 12.0, 13.0, 14.0}));
+      EXPECT_EQ(worker.stats().skipped, 0u);
+    }
+    EXPECT_EQ(worker.stats().handled, live ? 1u : 5u);
+  }
+}
+
+TEST(SlamWorker, LiveModeDoesNotSkipOverARestart) {
+  Recorder rec;
+  SlamWorker worker(smallConfig(), 100, rec.callbacks());
+  worker.setLive(true);
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> task_running{false};
+  std::thread blocker([&] {
+    worker.runOnWorker([&](const MappingSession&) {
+      task_running = true;
+      released.wait();
+    });
+  });
+  while (!task_running) std::this_thread::yield();
+  ASSERT_TRUE(worker.push(Pose2(), roomScan(Pose2(), 10.0)));
+  ASSERT_TRUE(worker.push(Pose2(), roomScan(Pose2(), 11.0)));
+  worker.requestRestart("test");
+  ASSERT_TRUE(worker.push(Pose2(), roomScan(Pose2(), 12.0)));
+  ASSERT_TRUE(worker.push(Pose2(), roomScan(Pose2(), 13.0)));
+  release.set_value();
+  blocker.join();
+  worker.waitIdle();
+  EXPECT_EQ(rec.stamps, (std::vector<double>{11.0, 13.0}));
+  EXPECT_EQ(rec.restarts, 1);
+  EXPECT_EQ(worker.stats().skipped, 2u);
+}
+
 TEST(SlamWorker, ReconfigureAppliesBeforeTheNextScan) {
   Recorder rec;
   SlamWorker worker(smallConfig(), 100, rec.callbacks());

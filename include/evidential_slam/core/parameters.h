@@ -28,10 +28,10 @@ struct ParameterSpec {
 };
 
 // Visits one row: visit(spec, field).
-#define ES_VISIT_PARAMETER(ctx, name, member, type, def, min, max, unit, scope, meaning)   \
-  visit(::evidential_slam::ParameterSpec{#name, #type, static_cast<double>(min),           \
-                                         static_cast<double>(max), unit,                    \
-                                         ::evidential_slam::ParameterScope::scope, meaning}, \
+#define ES_VISIT_PARAMETER(ctx, name, member, type, def, min, max, unit, scope, tier, meaning) \
+  visit(::evidential_slam::ParameterSpec{#name, #type, static_cast<double>(min),               \
+                                         static_cast<double>(max), unit,                       \
+                                         ::evidential_slam::ParameterScope::scope, meaning},   \
         (ctx).member);
 
 // What both front ends do around the SLAM engine (session/): the order of scans, and the map files
@@ -101,12 +101,12 @@ std::vector<std::pair<std::string, std::string>> parameterValues(const Parameter
 
 // Range checks of every row of `Config`'s list (its isValid builds on it): the first failure's
 // message goes to `why`.
-#define ES_CHECK_PARAMETER_RANGE(ctx, name, member, type, def, min, max, unit, scope, meaning) \
-  ok = ok && ::evidential_slam::inRange(                                                       \
-                 ::evidential_slam::ParameterSpec{#name, #type, static_cast<double>(min),      \
-                                                  static_cast<double>(max), unit,              \
-                                                  ::evidential_slam::ParameterScope::scope,    \
-                                                  meaning},                                    \
+#define ES_CHECK_PARAMETER_RANGE(ctx, name, member, type, def, min, max, unit, scope, tier,  \
+                                 meaning)                                                    \
+  ok = ok && ::evidential_slam::inRange(                                                     \
+                 ::evidential_slam::ParameterSpec{                                           \
+                     #name, #type, static_cast<double>(min), static_cast<double>(max), unit, \
+                     ::evidential_slam::ParameterScope::scope, meaning},                     \
                  (ctx).member, why);
 
 }  // namespace evidential_slam

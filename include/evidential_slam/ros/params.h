@@ -10,6 +10,7 @@
 
 #include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/core/parameters.h"
+#include "evidential_slam/ros/gmapping_names.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -29,9 +30,11 @@ void forEachNodeParameter(Params& p, Visitor&& visit) {
 
 // Reads every parameter from the private node handle; missing ones keep their defaults. False
 // with a one-line `why` for a value of the wrong type or out of range. `unknown` gets the names
-// under the private namespace that are not parameters (typos; worth a warning).
+// under the private namespace that are not parameters (typos; worth a warning). slam_gmapping's
+// names (gmapping_names.h) set their counterpart, converted, where ours is not given; `gmapping`
+// gets what was done with them.
 bool readParams(const ros::NodeHandle& private_nh, NodeParams* params, std::string* why,
-                std::vector<std::string>* unknown = nullptr);
+                std::vector<std::string>* unknown = nullptr, GmappingReport* gmapping = nullptr);
 
 // dynamic_reconfigure <-> parameters: the run-time part of `params` to and from the cfg struct.
 EvidentialSlamConfig toReconfigure(const NodeParams& params);

@@ -44,6 +44,10 @@ class SlamNodelet : public nodelet::Nodelet {
  private:
   void onInit() override;
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg);
+  // One line each: gmapping names read, shadowed by ours, without a counterpart, refused.
+  void logGmappingReport(const GmappingReport& report);
+  // Asks the map publisher for the latest map (map_update_interval, on ROS or wall time).
+  void requestMapUpdate();
   void onScanWithoutTransform(const sensor_msgs::LaserScan::ConstPtr& msg,
                               tf2_ros::filter_failure_reasons::FilterFailureReason reason);
   void onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg);
@@ -100,6 +104,8 @@ class SlamNodelet : public nodelet::Nodelet {
       global_localization_srv_;
   ros::Subscriber initial_pose_sub_;
   ros::Timer map_timer_, tf_timer_;
+  ros::WallTimer map_wall_timer_;                  // the map also when ROS time stands still
+  std::atomic<ros::WallTime> last_map_request_{};  // by either timer
   // The filter holds a scan until its tf arrives and says nothing meanwhile: this watchdog warns,
   // naming the missing transform, when scans arrive but none has passed for a while.
   ros::WallTimer tf_watchdog_;

@@ -26,7 +26,7 @@ struct MapSnapshot {
   // Changes whenever the anomaly may have: every processed scan, and with `version`. In
   // localization mode the map stays as it is while this moves on.
   uint64_t anomaly_version = 0;
-  std::shared_ptr<const AnomalyNode> anomaly;      // the best particle's (core/anomaly.h)
+  std::shared_ptr<const AnomalyNode> anomaly;  // the best particle's (core/anomaly.h)
   // Localization mode: the anomaly against the stored map (`grid`), instead of `anomaly`.
   std::shared_ptr<const AnomalyGrid> anomaly_grid;
 };
@@ -39,6 +39,7 @@ struct WorkerStats {
   uint64_t refused = 0;           // ... beyond a limit
   uint64_t restarts = 0;          // times the SLAM started over
   uint64_t queue_full_drops = 0;  // scans push() refused
+  uint64_t skipped = 0;           // scans passed over for a newer one (live mode)
   double last_latency_s = 0.0;    // from push() to the end of the scan's processing (wall time)
   double max_latency_s = 0.0;
   bool conflict_alarm = false;  // the alarm's verdict on the last processed scan
@@ -61,6 +62,9 @@ class SlamWorker {
   SlamWorker(const SlamWorker&) = delete;
   SlamWorker& operator=(const SlamWorker&) = delete;
 
+  // Live mode: when several scans wait, the worker takes the newest and skips the others (the
+  // odometry of the newest spans the gap, as GMapping does). Off: every scan, in order.
+  void setLive(bool live);
   // Queues a scan with the odometry pose at its stamp. False (nothing queued) when the queue is
   // full: the filter is slower than the sensor.
   bool push(const Pose2& odometry, const LaserScan& scan);
@@ -81,8 +85,7 @@ class SlamWorker {
   // Runs `change` on the worker thread between two scans and waits for it: the way to start the
   // session over (on a map, at a pose) or pause it. With `map_changed` the map snapshot becomes
   // the session's current map (none when it holds no particle yet).
-  void changeOnWorker(const std::function<void(MappingSession& session)>& change,
-                      bool map_changed);
+  void changeOnWorker(const std::function<void(MappingSession& session)>& change, bool map_changed);
 
   MapSnapshot latestMap() const;
   // Blocks until every queued scan has been handled (tests, shutdown of a player run).
@@ -120,6 +123,7 @@ class SlamWorker {
   std::string reset_save_root_;  // for the session, handed over on the worker thread
   bool busy_ = false;
   bool stop_ = false;
+  bool live_ = false;
   MapSnapshot map_;
   uint64_t resets_ = 0;
   WorkerStats stats_;
