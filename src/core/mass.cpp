@@ -76,4 +76,47 @@ Cell Cell::fromMass(const Mass& m) {
   return c;
 }
 
+int scansToFlip(double floor, double mass, int limit) {
+  // The cell (in the scans' direction): m̃(to) = 0, m̃(from) = 1 - floor, m̃(Θ) = floor.
+  double to = 0.0, from = 1.0 - floor, unknown = floor;
+  for (int n = 1; n <= limit; ++n) {
+    const double norm = 1.0 - from * mass;  // 1 - K
+    to = (to + unknown * mass) / norm;
+    from = from * (1.0 - mass) / norm;
+    unknown = unknown * (1.0 - mass) / norm;
+    if (unknown < floor) {  // discounted back to the floor, the ratio kept
+      const double scale = (1.0 - floor) / (to + from);
+      to *= scale;
+      from *= scale;
+      unknown = floor;
+    }
+    if (to > from) return n;  // BetP(to) = m̃(to) + m̃(Θ)/2 > 1/2
+  }
+  return limit + 1;
+}
+
+double confidenceFloor(int flip_scans, double hit_mass, double pass_mass) {
+  if (flip_scans <= 0) return 0.0;
+  const double mass = std::max(hit_mass, pass_mass);
+  if (!(mass > 0.0 && mass < 1.0)) return 0.0;
+  // The smallest floor at which at most n scans flip the cell (the count falls as the floor grows),
+  // by bisection on a log scale.
+  auto smallestFloorFlippingIn = [&](int n) {
+    if (n <= 0) return 1.0;
+    double lo = 1e-300, hi = 1.0;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = std::sqrt(lo * hi);
+      (scansToFlip(mid, mass, n) <= n ? hi : lo) = mid;
+    }
+    return hi;
+  };
+  return std::sqrt(smallestFloorFlippingIn(flip_scans) * smallestFloorFlippingIn(flip_scans - 1));
+}
+
+uint32_t confidenceFloorSteps(double floor) {
+  if (!(floor > 0.0)) return 0;
+  const double steps = std::round(std::min(floor, 1.0) * Cell::kMassSteps);
+  return std::max<uint32_t>(1, static_cast<uint32_t>(steps));
+}
+
 }  // namespace evidential_slam

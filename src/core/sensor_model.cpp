@@ -175,7 +175,8 @@ size_t ScanAccumulator::touched() const {
   return n;
 }
 
-double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added) const {
+double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_added,
+                                uint32_t floor_steps) const {
   double added = 0.0, mass = 0.0;
   {
     const ProfileTimer timer(ProfileSection::kApplyScan);
@@ -192,11 +193,13 @@ double ScanAccumulator::applyTo(EvidentialGridMap* map, double* conflict_mass_ad
         // A tile is taken for writing (cloned if shared) only at its first cell that the update
         // changes: space observed free many times stays as it is under clearing beams, and a
         // tile holding only such cells is neither copied nor written.
-        if (shared != nullptr && updateLeavesCell(shared->cells[k], block.mass[k])) return;
+        if (shared != nullptr && updateLeavesCell(shared->cells[k], block.mass[k], floor_steps)) {
+          return;
+        }
         tile = &map->mutableTile(block.tile_x, block.tile_y);
       }
       ConflictIncrement increment;
-      const float conflict = updateCell(tile->cells[k], block.mass[k], &increment);
+      const float conflict = updateCell(tile->cells[k], block.mass[k], &increment, floor_steps);
       tile->cellWritten(static_cast<int>(k));
       if (conflict <= 0.0f) return;
       // This update multiplies 1 - m(∅) = exp(-λ) by 1 - K: λ grows by -ln(1 - K) and m(∅) by
@@ -277,6 +280,14 @@ BeamModel::BeamModel(const SensorModelConfig& config, double resolution)
     inverse_table_[i] = m;
   }
   clear_mass_.free = static_cast<float>(1.0 - r);
+  // The contradicting scans: a clearing beam, the stronger of the inverse model's two typical
+  // masses and the same for every laser (a hit centred in a cell, the largest m(o), is weaker:
+  // 0.63 at the defaults, ~0.09 for a 0.3 m laser, whose hits then take more scans to flip a cell).
+  float hit_mass = 0.0f;
+  for (const ScanMass& m : inverse_table_) hit_mass = std::max(hit_mass, m.occupied);
+  confidence_floor_ =
+      evidential_slam::confidenceFloor(config_.flip_scans, hit_mass, clear_mass_.free);
+  floor_steps_ = confidenceFloorSteps(confidence_floor_);
 }
 
 double BeamModel::beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
@@ -436,13 +447,13 @@ void BeamModel::accumulateScan(const TracedScan& traced, ScanAccumulator* scratc
 
 double BeamModel::applyScan(const ScanAccumulator& scratch, EvidentialGridMap* map,
                             ScanConflict* conflict) const {
-  if (conflict == nullptr) return scratch.applyTo(map) / kLn2;
+  if (conflict == nullptr) return scratch.applyTo(map, nullptr, floor_steps_) / kLn2;
   // Before the update: it reads the neighbours of the cells the update changes.
   {
     const ProfileTimer timer(ProfileSection::kOpenSpace);
     conflict->open_space_added = scratch.openSpaceConflict(*map, open_space_radius_);
   }
-  return scratch.applyTo(map, &conflict->mass_added) / kLn2;
+  return scratch.applyTo(map, &conflict->mass_added, floor_steps_) / kLn2;
 }
 
 BeamModel::ScanEvidence BeamModel::weighAndIntegrate(const Pose2& sensor_in_map,

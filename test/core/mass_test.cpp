@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "evidential_slam/core/mass.h"
@@ -462,6 +463,109 @@ TEST(CellTest, OneMinusConflictIsExpOfMinusLambda) {
   }
   EXPECT_EQ(checked, 0x7C00);
   EXPECT_EQ(Cell::fromStored(0.0f, 0.0f, 1e9f).oneMinusConflict(), std::exp(-65504.0));
+}
+
+// --- Bounded confidence (algorithm.md §2.4) -----------------------------------------------------
+
+// A cell held free at the floor f (m̃ = (0, 1 - f, f)); scans of mass h on {o} (the same holds for
+// an occupied cell and h on {e}). One scan: m̃(o) : m̃(e) = f h : (1 - f)(1 - h), so one scan flips
+// it iff f > 1 - h. Two (each discounted back to f, D = f h + (1 - f)(1 - h)): flips iff
+//   (1 - f) f h / D + f h > (1 - f)² (1 - h)² / D.
+// h = 0.63: 0.6031 f² - 1.1369 f + 0.1369 < 0, i.e. f > (1.1369 - √0.96228405) / 1.2062
+//   = (1.1369 - 0.98096078) / 1.2062 = 0.12928140.
+// h = 0.8 (the stronger mass, which sets the floor): 0.36 f² - 1.04 f + 0.04 < 0, i.e.
+//   f > (1.04 - √1.024) / 0.72 = (1.04 - 1.01192885) / 0.72 = 0.03898771.
+// The floor for exactly two scans of 0.8 is the geometric middle √(0.2 · 0.03898771) = 0.08830369.
+TEST(BoundedConfidenceTest, FloorForTwoScansIsHandComputed) {
+  EXPECT_NEAR(confidenceFloor(2, 0.63, 0.8), 0.08830369, 1e-7);
+  EXPECT_NEAR(confidenceFloor(1, 0.63, 0.8), std::sqrt(0.2), 1e-9);  // between 1 - h and 1
+  EXPECT_EQ(scansToFlip(0.36, 0.63, 10), 2);
+  EXPECT_EQ(scansToFlip(0.38, 0.63, 10), 1);
+  EXPECT_EQ(scansToFlip(0.1292, 0.63, 10), 3);
+  EXPECT_EQ(scansToFlip(0.1294, 0.63, 10), 2);
+  EXPECT_EQ(scansToFlip(0.0389, 0.8, 10), 3);
+  EXPECT_EQ(scansToFlip(0.0391, 0.8, 10), 2);
+  // The stronger mass sets the floor, whichever it is.
+  EXPECT_EQ(confidenceFloor(2, 0.63, 0.8), confidenceFloor(2, 0.8, 0.63));
+  // 0 turns it off.
+  EXPECT_EQ(confidenceFloor(0, 0.63, 0.8), 0.0);
+  EXPECT_EQ(confidenceFloorSteps(0.0), 0u);
+}
+
+// Stored cells with the floor of N passes (e 0.8) and hits (o 0.63): a cell made certainly
+// occupied by hits turns free (BetP(o) < 1/2, i.e. m̃(e) > m̃(o)) after exactly N passes, and a cell
+// made certainly free by passes turns occupied after the hits scansToFlip counts (more than N);
+// m̃(Θ) is never below the floor; λ grows only on the contradicting updates.
+TEST(BoundedConfidenceTest, ConfidentCellsFlipAfterTheirScans) {
+  const ScanMass hit{0.63f, 0.0f}, pass{0.0f, 0.8f};
+  for (int n = 1; n <= 9; ++n) {
+    SCOPED_TRACE(testing::Message() << "N = " << n);
+    const double floor = confidenceFloor(n, hit.occupied, pass.free);
+    const uint32_t floor_steps = confidenceFloorSteps(floor);
+    ASSERT_GT(floor_steps, 0u);
+    Cell o;
+    for (int i = 0; i < 200; ++i) updateCell(o, hit, nullptr, floor_steps);
+    EXPECT_EQ(o.freeSteps(), 0u);
+    EXPECT_EQ(o.unknownSteps(), floor_steps);
+    EXPECT_EQ(o.lambda(), 0.0f);  // no contradiction: no conflict
+    int passes = 0;
+    while (o.free() <= o.occupied() && passes < 100) {
+      updateCell(o, pass, nullptr, floor_steps);
+      EXPECT_GE(o.unknownSteps(), floor_steps);
+      ++passes;
+    }
+    EXPECT_EQ(passes, n);
+    EXPECT_GT(o.lambda(), 0.0f);
+
+    Cell c;
+    for (int i = 0; i < 200; ++i) updateCell(c, pass, nullptr, floor_steps);
+    EXPECT_EQ(c.occupiedSteps(), 0u);
+    EXPECT_EQ(c.unknownSteps(), floor_steps);
+    EXPECT_EQ(c.lambda(), 0.0f);
+    int hits = 0;
+    while (c.occupied() <= c.free() && hits < 100) {
+      updateCell(c, hit, nullptr, floor_steps);
+      EXPECT_GE(c.unknownSteps(), floor_steps);
+      ++hits;
+    }
+    EXPECT_EQ(hits, scansToFlip(floor, hit.occupied, 100));
+    EXPECT_GE(hits, n);
+    if (n >= 2) EXPECT_GT(hits, n);  // hits are weaker than passes
+  }
+}
+
+// Without a floor the same cell never flips: 50 hits on a certainly free cell leave m̃(o) = 0
+// (the conjunctive rule moves each hit's mass to m(∅): λ grows by -ln(1 - 0.63) = 0.994 a hit).
+TEST(BoundedConfidenceTest, UnboundedCellNeverFlips) {
+  Cell c;
+  for (int i = 0; i < 200; ++i) updateCell(c, ScanMass{0.0f, 0.8f});
+  ASSERT_EQ(c.free(), 1.0f);
+  for (int i = 0; i < 50; ++i) updateCell(c, ScanMass{0.63f, 0.0f});
+  EXPECT_EQ(c.occupied(), 0.0f);
+  EXPECT_NEAR(c.lambda(), 50 * 0.99425227, 0.5);  // half-float λ, rounded at each of 50 adds
+}
+
+// On random sequences of scan masses: the floor is never violated after an update; a floor of 0 is
+// the unbounded update bit for bit; λ's increment is -ln(1 - K) of the discounted cell, so updates
+// without contradiction (K = 0) leave λ as it was.
+TEST(BoundedConfidenceTest, FloorHoldsOnRandomUpdates) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const uint32_t floor_steps = confidenceFloorSteps(confidenceFloor(8, 0.63, 0.8));
+  for (int run = 0; run < 200; ++run) {
+    Cell bounded, unbounded, zero;
+    for (int i = 0; i < 100; ++i) {
+      const float o = u(rng) < 0.5f ? 0.0f : u(rng);
+      const ScanMass s{o, u(rng) < 0.5f ? 0.0f : u(rng) * (1.0f - o)};
+      const float lambda_before = bounded.lambda();
+      const float k = updateCell(bounded, s, nullptr, floor_steps);
+      ASSERT_GE(bounded.unknownSteps(), floor_steps);
+      if (k == 0.0f) ASSERT_EQ(bounded.lambda(), lambda_before);
+      updateCell(unbounded, s);
+      updateCell(zero, s, nullptr, 0);
+      ASSERT_EQ(zero, unbounded);
+    }
+  }
 }
 
 }  // namespace

@@ -16,13 +16,13 @@
 #include <utility>
 #include <vector>
 
+#include "cell_support.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/mass.h"
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/sensor_model.h"
 #include "test_support.h"
-#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -47,6 +47,7 @@ SensorModelConfig paperConfig() {
   c.usable_range = 20.0;
   c.min_range = 0.05;
   c.clear_no_return = true;
+  c.flip_scans = 0;  // unbounded confidence, as in the paper
   return c;
 }
 
@@ -532,8 +533,9 @@ TEST(IntegrateScanTest, AccumulatorAcrossTilesAndNegativeCells) {
 // changes a cell of it (an obstacle, or space not yet certain) gets the particle its own copy.
 TEST(IntegrateScanTest, UnchangedTilesStayShared) {
   EvidentialGridMap map(kRes);
-  for (int x = 0; x < 64; ++x) map.mutableCell(x, 3) = storedCell(0.0f, 1.0f);  // tiles (0,0), (1,0)
-  map.mutableCell(40, 3) = storedCell(0.0f, 0.5f);                              // tile (1, 0)
+  for (int x = 0; x < 64; ++x)
+    map.mutableCell(x, 3) = storedCell(0.0f, 1.0f);  // tiles (0,0), (1,0)
+  map.mutableCell(40, 3) = storedCell(0.0f, 0.5f);   // tile (1, 0)
   EvidentialGridMap particle = map;
   const auto sharedTiles = [&]() {
     return static_cast<int>(map.tile(0, 0) == particle.tile(0, 0)) +
@@ -562,6 +564,58 @@ TEST(IntegrateScanTest, UnchangedTilesStayShared) {
   EXPECT_GT(scratch.applyTo(&particle), 0.0);
   EXPECT_NE(map.tile(0, 0), particle.tile(0, 0));
   EXPECT_EQ(map.cell(5, 3), storedCell(0.0f, 1.0f));
+}
+
+// Bounded confidence through the whole update (algorithm.md §2.4): with flip_scans = 5, a cell
+// that hits on its centre made certainly occupied turns free (BetP(o) < 1/2) at the 5th clearing
+// scan, and a cell that clearing scans made certainly free turns occupied after the hits
+// scansToFlip counts for the centred hit's mass 0.62554889 (InverseModelTest); unbounded, 30 hits
+// leave it free. Cells at the floor under clearing beams are a fixed point: their tiles stay
+// shared.
+TEST(IntegrateScanTest, BoundedConfidenceFlipsAfterFlipScans) {
+  for (const int flip_scans : {0, 5}) {
+    SCOPED_TRACE(testing::Message() << "flip_scans " << flip_scans);
+    SensorModelConfig config = paperConfig();
+    config.flip_scans = flip_scans;
+    const BeamModel model(config, kRes);
+    EXPECT_NEAR(model.confidenceFloor(), confidenceFloor(flip_scans, 0.62554889, 0.8), 1e-5);
+    TracedScan clear, hit;
+    model.traceScan(kSensor, makeScan({3.0f}, {0.0f}, {1}), &clear);  // passes cell 20
+    model.traceScan(kSensor, makeScan({1.0f}, {0.0f}, {1}), &hit);    // hits cell 20's centre
+    EvidentialGridMap map(kRes);
+    ScanAccumulator scratch;
+    const auto occupied = [&]() { return map.cell(20, 0).occupied() > map.cell(20, 0).free(); };
+    if (flip_scans > 0) {
+      for (int i = 0; i < 100; ++i) model.integrateScan(hit, &map, &scratch);
+      EXPECT_NEAR(map.cell(20, 0).unknown(), model.confidenceFloor(), 1e-6);
+      int passes = 0;
+      while (occupied() && passes < 30) {
+        model.integrateScan(clear, &map, &scratch);
+        ++passes;
+      }
+      EXPECT_EQ(passes, 5);
+    }
+    for (int i = 0; i < 100; ++i) model.integrateScan(clear, &map, &scratch);
+    const Cell& c = map.cell(20, 0);
+    EXPECT_EQ(c.occupied(), 0.0f);
+    EXPECT_NEAR(c.unknown(), model.confidenceFloor(), 1e-6);
+    const EvidentialGridMap before = map;
+    model.integrateScan(clear, &map, &scratch);
+    EXPECT_EQ(before.tile(0, 0), map.tile(0, 0));  // nothing changed: the tile is not copied
+
+    int hits = 0;
+    while (!occupied() && hits < 30) {
+      model.integrateScan(hit, &map, &scratch);
+      ++hits;
+    }
+    if (flip_scans == 0) {
+      EXPECT_EQ(hits, 30);
+      EXPECT_EQ(map.cell(20, 0).occupied(), 0.0f);
+    } else {
+      EXPECT_EQ(hits, scansToFlip(model.confidenceFloor(), 0.62554889, 30));
+      EXPECT_GT(hits, 5);
+    }
+  }
 }
 
 // The map update keeps the tiles' occupied rows (the scan matcher's targets) true: rows built
@@ -645,72 +699,77 @@ std::vector<ScanMass> variedScanMasses(std::mt19937* rng) {
 
 // applyTo leaves every cell as updateCell leaves it, λ included, and sums the
 // λ and m(∅) that updateCell's increments give; it keeps the tile's may-hold-occupied bits true
-// (no clear bit on a cell with m̃(o) > 0) and its occupied rows, once built, exact.
+// (no clear bit on a cell with m̃(o) > 0) and its occupied rows, once built, exact. Unbounded and
+// with a confidence floor (algorithm.md §2.4).
 TEST(IntegrateScanTest, ApplyToIsUpdateCellPerCell) {
   std::mt19937 rng(11);
-  const std::vector<Cell> cells = variedCells(&rng);
-  const std::vector<ScanMass> masses = variedScanMasses(&rng);
-  EvidentialGridMap map(kRes);
-  std::uniform_int_distribution<int> coordinate(-40, 40);
-  for (size_t i = 0; i < cells.size(); ++i) {
-    map.mutableCell(coordinate(rng), coordinate(rng)) = cells[i];
-  }
-  EvidentialGridMap::Tile::Rows scratch_rows;
-  for (int ty = -2; ty <= 1; ++ty) {
-    for (int tx = -2; tx <= 1; ++tx) {
-      if (const auto* t = map.tile(tx, ty)) t->occupiedRows(0.2f, &scratch_rows);  // built
+  for (const uint32_t floor_steps : {0u, confidenceFloorSteps(confidenceFloor(8, 0.63, 0.8))}) {
+    SCOPED_TRACE(testing::Message() << "floor steps " << floor_steps);
+    const std::vector<Cell> cells = variedCells(&rng);
+    const std::vector<ScanMass> masses = variedScanMasses(&rng);
+    EvidentialGridMap map(kRes);
+    std::uniform_int_distribution<int> coordinate(-40, 40);
+    for (size_t i = 0; i < cells.size(); ++i) {
+      map.mutableCell(coordinate(rng), coordinate(rng)) = cells[i];
     }
-  }
-  EvidentialGridMap expected = map;
-  ScanAccumulator acc;
-  acc.reset(CellIndex{0, 0}, 64);
-  // The scan's fused mass per cell, fused here in the order of the adds (as the accumulator does).
-  std::map<std::pair<int, int>, ScanMass> scan;
-  for (size_t i = 0; i < masses.size(); ++i) {
-    const int x = coordinate(rng), y = coordinate(rng);
-    ASSERT_TRUE(acc.add(x, y, masses[i]));
-    const auto [it, first] = scan.emplace(std::make_pair(x, y), masses[i]);
-    if (!first) it->second = fuseDempster(it->second, masses[i]);
-  }
-  EvidentialGridMap applied = map;
-  double applied_mass = 0.0;
-  const double applied_lambda = acc.applyTo(&applied, &applied_mass);
-  double lambda_sum = 0.0, mass_sum = 0.0;
-  for (int y = -64; y < 64; ++y) {
-    for (int x = -64; x < 64; ++x) {
-      const auto it = scan.find(std::make_pair(x, y));
-      Cell c = expected.cell(x, y);
-      if (it == scan.end()) {
-        ASSERT_EQ(applied.cell(x, y), c);
-        continue;
-      }
-      ConflictIncrement inc;
-      const float k = updateCell(c, it->second, &inc);
-      ASSERT_EQ(applied.cell(x, y), c) << x << "," << y;
-      if (k > 0.0f) {
-        lambda_sum += inc.lambda_added;
-        mass_sum += inc.one_minus_conflict_before * k;
+    EvidentialGridMap::Tile::Rows scratch_rows;
+    for (int ty = -2; ty <= 1; ++ty) {
+      for (int tx = -2; tx <= 1; ++tx) {
+        if (const auto* t = map.tile(tx, ty)) t->occupiedRows(0.2f, &scratch_rows);  // built
       }
     }
-  }
-  // Summed in another order here: equal to rounding.
-  EXPECT_NEAR(applied_lambda, lambda_sum, 1e-9 * std::max(1.0, lambda_sum));
-  EXPECT_NEAR(applied_mass, mass_sum, 1e-9 * std::max(1.0, mass_sum));
-  EXPECT_GT(lambda_sum, 1.0);
-  for (int ty = -2; ty <= 1; ++ty) {
-    for (int tx = -2; tx <= 1; ++tx) {
-      const EvidentialGridMap::Tile* t = applied.tile(tx, ty);
-      if (t == nullptr) continue;
-      EvidentialGridMap::Tile::Rows fresh;
-      const auto& rows = t->occupiedRows(0.2f, &fresh);
-      for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
-        const Cell& c = t->cells[static_cast<size_t>(k)];
-        if (!t->mayHoldOccupied(k)) {
-          ASSERT_EQ(c.occupied(), 0.0f) << k;  // a clear bit is exact
+    EvidentialGridMap expected = map;
+    ScanAccumulator acc;
+    acc.reset(CellIndex{0, 0}, 64);
+    // The scan's fused mass per cell, fused here in the order of the adds (as the accumulator
+    // does).
+    std::map<std::pair<int, int>, ScanMass> scan;
+    for (size_t i = 0; i < masses.size(); ++i) {
+      const int x = coordinate(rng), y = coordinate(rng);
+      ASSERT_TRUE(acc.add(x, y, masses[i]));
+      const auto [it, first] = scan.emplace(std::make_pair(x, y), masses[i]);
+      if (!first) it->second = fuseDempster(it->second, masses[i]);
+    }
+    EvidentialGridMap applied = map;
+    double applied_mass = 0.0;
+    const double applied_lambda = acc.applyTo(&applied, &applied_mass, floor_steps);
+    double lambda_sum = 0.0, mass_sum = 0.0;
+    for (int y = -64; y < 64; ++y) {
+      for (int x = -64; x < 64; ++x) {
+        const auto it = scan.find(std::make_pair(x, y));
+        Cell c = expected.cell(x, y);
+        if (it == scan.end()) {
+          ASSERT_EQ(applied.cell(x, y), c);
+          continue;
         }
-        ASSERT_EQ(((rows[static_cast<size_t>(k >> 5)] >> (k & 31)) & 1u) != 0,
-                  c.occupied() >= 0.2f)
-            << k;
+        ConflictIncrement inc;
+        const float k = updateCell(c, it->second, &inc, floor_steps);
+        ASSERT_EQ(applied.cell(x, y), c) << x << "," << y;
+        if (k > 0.0f) {
+          lambda_sum += inc.lambda_added;
+          mass_sum += inc.one_minus_conflict_before * k;
+        }
+      }
+    }
+    // Summed in another order here: equal to rounding.
+    EXPECT_NEAR(applied_lambda, lambda_sum, 1e-9 * std::max(1.0, lambda_sum));
+    EXPECT_NEAR(applied_mass, mass_sum, 1e-9 * std::max(1.0, mass_sum));
+    EXPECT_GT(lambda_sum, 1.0);
+    for (int ty = -2; ty <= 1; ++ty) {
+      for (int tx = -2; tx <= 1; ++tx) {
+        const EvidentialGridMap::Tile* t = applied.tile(tx, ty);
+        if (t == nullptr) continue;
+        EvidentialGridMap::Tile::Rows fresh;
+        const auto& rows = t->occupiedRows(0.2f, &fresh);
+        for (int k = 0; k < EvidentialGridMap::kTileCells; ++k) {
+          const Cell& c = t->cells[static_cast<size_t>(k)];
+          if (!t->mayHoldOccupied(k)) {
+            ASSERT_EQ(c.occupied(), 0.0f) << k;  // a clear bit is exact
+          }
+          ASSERT_EQ(((rows[static_cast<size_t>(k >> 5)] >> (k & 31)) & 1u) != 0,
+                    c.occupied() >= 0.2f)
+              << k;
+        }
       }
     }
   }

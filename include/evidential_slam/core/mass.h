@@ -73,25 +73,19 @@ class Cell {
  public:
   static constexpr uint32_t kMassSteps = 1u << 23;  // a mass of 1
 
-  float occupied() const { return toMass(occupiedSteps()); }                            // m̃(o)
-  float free() const { return toMass(freeSteps()); }                                    // m̃(e)
-  float unknown() const { return toMass(kMassSteps - occupiedSteps() - freeSteps()); }  // m̃(Θ)
+  float occupied() const { return toMass(occupiedSteps()); }    // m̃(o)
+  float free() const { return toMass(freeSteps()); }            // m̃(e)
+  float unknown() const { return toMass(unknownSteps()); }      // m̃(Θ)
   float lambda() const { return static_cast<float>(lambda_); }  // external conflict, nats
   // 1 - m(∅) = e^{-λ}, equal to std::exp(-static_cast<double>(lambda())).
   double oneMinusConflict() const { return detail::kExpMinusHalf[lambda_.x & 0x7FFFu]; }
   bool conflicted() const { return lambda_.x != 0; }  // λ > 0: m(∅) > 0
   bool observed() const { return (occupiedSteps() | freeSteps()) != 0 || conflicted(); }
-  // m̃(e) = 1: a scan mass without m(o) leaves the cell as it is.
-  bool isCertainlyFree() const { return freeSteps() == kMassSteps; }
 
   // Rounds to the nearest representable pair; values outside the simplex are clamped into it.
   void setMasses(float occupied, float free) {
     const uint32_t o = toSteps(occupied);
-    const uint32_t e = std::min(toSteps(free), kMassSteps - o);
-    occupied_hi_ = static_cast<uint16_t>(o >> 8);
-    occupied_lo_ = static_cast<uint8_t>(o);
-    free_hi_ = static_cast<uint16_t>(e >> 8);
-    free_lo_ = static_cast<uint8_t>(e);
+    setSteps(o, std::min(toSteps(free), kMassSteps - o));
   }
   // Clamped to [0, 65504], the largest finite half float.
   void setLambda(float lambda) {
@@ -110,6 +104,18 @@ class Cell {
   // kMassSteps) and λ's IEEE half-float bits.
   uint32_t occupiedSteps() const { return (uint32_t{occupied_hi_} << 8) | occupied_lo_; }
   uint32_t freeSteps() const { return (uint32_t{free_hi_} << 8) | free_lo_; }
+  uint32_t unknownSteps() const { return kMassSteps - occupiedSteps() - freeSteps(); }
+  // Bounded confidence (algorithm.md §2.4): Shafer discounting of m̃ towards Θ, just enough that
+  // m̃(Θ) is at least `floor_steps` steps (m̃(o) and m̃(e) scaled by one factor, their ratio kept
+  // up to rounding; λ untouched). A cell already at or above the floor is left as it is.
+  void boundConfidence(uint32_t floor_steps) {
+    const uint32_t o = occupiedSteps(), e = freeSteps();
+    const uint32_t keep = kMassSteps - std::min(floor_steps, kMassSteps);
+    if (o + e <= keep) return;
+    const uint32_t o_kept = static_cast<uint32_t>(
+        std::llround(static_cast<double>(o) * keep / static_cast<double>(o + e)));
+    setSteps(o_kept, keep - o_kept);
+  }
   uint16_t lambdaBits() const { return lambda_.x; }
   // The largest λ bits a cell holds: 65504, the largest finite half float (setLambda's cap).
   static constexpr uint16_t kMaxLambdaBits = 0x7BFF;
@@ -121,10 +127,7 @@ class Cell {
         lambda_bits > kMaxLambdaBits) {
       return false;
     }
-    out->occupied_hi_ = static_cast<uint16_t>(occupied_steps >> 8);
-    out->occupied_lo_ = static_cast<uint8_t>(occupied_steps);
-    out->free_hi_ = static_cast<uint16_t>(free_steps >> 8);
-    out->free_lo_ = static_cast<uint8_t>(free_steps);
+    out->setSteps(occupied_steps, free_steps);
     out->lambda_.x = lambda_bits;
     return true;
   }
@@ -134,6 +137,12 @@ class Cell {
   }
 
  private:
+  void setSteps(uint32_t o, uint32_t e) {
+    occupied_hi_ = static_cast<uint16_t>(o >> 8);
+    occupied_lo_ = static_cast<uint8_t>(o);
+    free_hi_ = static_cast<uint16_t>(e >> 8);
+    free_lo_ = static_cast<uint8_t>(e);
+  }
   // Exact in float arithmetic (no double round trip): steps < 2^24 is a float, scaling by 2^±23
   // is exact, and so is the fraction x - floor(x); rounds half-way up.
   static float toMass(uint32_t steps) {
@@ -156,10 +165,24 @@ class Cell {
 // (certain, opposite masses) would make λ infinite.
 constexpr float kMaxUpdateConflict = 1.0f - 1.0f / (1 << 24);
 
+// The floor on m̃(Θ) (algorithm.md §2.4) at which `flip_scans` scans of the stronger of the two
+// masses (`hit_mass` on {o}, `pass_mass` on {e}) turn a cell held the other way with full (bounded)
+// confidence to BetP > 1/2; scans of the weaker mass take more (scansToFlip). The floor lies in
+// the middle (geometric) of the floors for which exactly `flip_scans` scans flip the cell, so
+// rounding does not move the count. 0 for flip_scans = 0 (unbounded confidence). The inverse
+// model's hit is never stronger than its clearing beam (s(o) <= 1 - r): the beam sets it.
+double confidenceFloor(int flip_scans, double hit_mass, double pass_mass);
+// The floor in the cell's steps of 2^-23 (0: unbounded).
+uint32_t confidenceFloorSteps(double floor);
+// How many scans of mass `mass` on one singleton turn a cell at floor `floor`, fully confident in
+// the other, to BetP > 1/2 (exact arithmetic; `limit` + 1 if more than `limit`).
+int scansToFlip(double floor, double mass, int limit);
+
 // True when updating `cell` by `scan` leaves it as it is: a scan mass without m(o) on a cell that
-// is certainly free (m̃(e) = 1, where space observed free many times ends up).
-inline bool updateLeavesCell(const Cell& cell, const ScanMass& scan) {
-  return scan.occupied == 0.0f && cell.isCertainlyFree();
+// is certainly free (m̃(e) = 1 - floor, where space observed free many times ends up).
+inline bool updateLeavesCell(const Cell& cell, const ScanMass& scan, uint32_t floor_steps = 0) {
+  return scan.occupied == 0.0f && cell.occupiedSteps() == 0 &&
+         cell.freeSteps() == Cell::kMassSteps - floor_steps;
 }
 
 // What an update that conflicts (K > 0) did to a cell's conflict, for callers that sum it.
@@ -170,9 +193,12 @@ struct ConflictIncrement {
 
 // Conjunctive update of a stored cell by a scan mass (algorithm.md §2.3); exact up to the storage's
 // rounding, never NaN. Returns the conflict K of this update; when K > 0 and asked, `increment`
-// says what λ was and how much it grew.
-inline float updateCell(Cell& cell, const ScanMass& scan, ConflictIncrement* increment = nullptr) {
-  if (updateLeavesCell(cell, scan)) return 0.0f;  // a fixed point: no change
+// says what λ was and how much it grew. With `floor_steps` > 0 the updated masses are then
+// discounted so that m̃(Θ) stays at least that floor (bounded confidence, §2.4); 0 is the
+// unbounded update.
+inline float updateCell(Cell& cell, const ScanMass& scan, ConflictIncrement* increment = nullptr,
+                        uint32_t floor_steps = 0) {
+  if (updateLeavesCell(cell, scan, floor_steps)) return 0.0f;  // a fixed point: no change
   const float s_u = scan.unknown();
   const float c_o = cell.occupied(), c_e = cell.free(), c_u = cell.unknown();
   const float k = c_o * scan.free + c_e * scan.occupied;
@@ -180,10 +206,12 @@ inline float updateCell(Cell& cell, const ScanMass& scan, ConflictIncrement* inc
   const float free = c_e * (scan.free + s_u) + c_u * scan.free;
   if (k == 0.0f) {  // no conflict (dividing by 1 is exact)
     cell.setMasses(occupied, free);
+    if (floor_steps != 0) cell.boundConfidence(floor_steps);
     return 0.0f;
   }
   const float norm = std::max(1.0f - k, 1e-9f);
   cell.setMasses(occupied / norm, free / norm);
+  if (floor_steps != 0) cell.boundConfidence(floor_steps);
   const float added = -std::log1p(-std::min(k, kMaxUpdateConflict));
   if (increment != nullptr) {
     increment->one_minus_conflict_before = cell.oneMinusConflict();

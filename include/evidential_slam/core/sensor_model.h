@@ -85,9 +85,11 @@ class ScanAccumulator {
     }
     return true;
   }
-  // Applies every touched cell to `map` with the conjunctive rule; returns the external conflict
-  // added (nats, summed over cells) and, if asked, the conflict mass m(∅) added (summed).
-  double applyTo(EvidentialGridMap* map, double* conflict_mass_added = nullptr) const;
+  // Applies every touched cell to `map` with the conjunctive rule, each cell's m̃(Θ) kept at least
+  // `floor_steps` (updateCell); returns the external conflict added (nats, summed over cells) and,
+  // if asked, the conflict mass m(∅) added (summed).
+  double applyTo(EvidentialGridMap* map, double* conflict_mass_added = nullptr,
+                 uint32_t floor_steps = 0) const;
   size_t touched() const;
   // Before applyTo: the conflict mass applying the scan will add on cells where it puts an obstacle
   // into `map`'s open space (ScanConflict::open_space_added), with open space checked `radius`
@@ -175,6 +177,9 @@ class BeamModel {
   }
   // Mass of a cell on a beam that only clears space: e = 1 - r, Θ = r.
   ScanMass clearMass() const { return clear_mass_; }
+  // Bounded confidence (algorithm.md §2.4): the floor on every updated cell's m̃(Θ), derived from
+  // flip_scans clearing beams (s(e) = 1 - r, the same for every laser) as the contradicting scans.
+  double confidenceFloor() const { return confidence_floor_; }
 
   // pl(z) of one beam over `cells` (ordered outwards from the sensor), algorithm.md §3.
   double beamPlausibility(const EvidentialGridMap& map, const RayCell* cells, size_t n,
@@ -281,6 +286,8 @@ class BeamModel {
   double s_min_, s_max_;
   std::vector<ScanMass> inverse_table_;
   ScanMass clear_mass_;
+  double confidence_floor_ = 0.0;
+  uint32_t floor_steps_ = 0;  // confidence_floor_ in the cell's steps
 };
 
 }  // namespace evidential_slam
