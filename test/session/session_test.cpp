@@ -190,6 +190,47 @@ TEST(MappingSession, LimitsRefuseScansWithAClearMessage) {
   EXPECT_EQ(s.engine().stats().scans_received, 1u);
 }
 
+// Every pose that enters the SLAM is bounded by max_map_extent from the map frame's origin, the
+// same limit for every way in: a start map's pose (map file robot_pose, ~load_map use_pose,
+// --initial-pose), a localization start and a fresh map's first odometry. Beyond it a start is
+// refused with one line and the session keeps working; before, 10^9 m reached the scan matcher's
+// correspondence search as overflowed cell indices (std::length_error).
+TEST(MappingSession, PosesBeyondTheMapExtentAreRefusedWhereTheyEnter) {
+  Parameters p = smallConfig();
+  p.session.max_map_extent = 100.0;
+  MappingSession s(p);
+  EXPECT_EQ(s.processScan(Pose2(1e9, 0.0, 0.0), roomScan(Pose2(), 100.0)).order, Order::kRefused);
+  SessionScanResult r = s.processScan(Pose2(0.0, -1e12, 0.0), roomScan(Pose2(), 100.0));
+  EXPECT_EQ(r.order, Order::kRefused);
+  EXPECT_NE(r.message.find("farther than max_map_extent (100 m)"), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find('\n'), std::string::npos);
+  EXPECT_EQ(s.processScan(Pose2(99.0, 0.0, 0.0), roomScan(Pose2(), 100.0)).order, Order::kInOrder);
+
+  MappingSession m(p);
+  for (double t : {100.0, 101.0, 102.0}) feed(&m, t);
+  const EvidentialGridMap map = m.currentMap();
+  std::string why;
+  for (const Pose2& far : {Pose2(1e9, 0, 0), Pose2(0, 1e6, 0), Pose2(-100.5, 0, 0),
+                           Pose2(std::numeric_limits<double>::quiet_NaN(), 0, 0)}) {
+    MappingSession t(p);
+    EXPECT_FALSE(t.startFromMap(map, far, &why));
+    EXPECT_NE(why.find("the start pose"), std::string::npos) << why;
+    LocalizationStart start;
+    start.pose = far;
+    EXPECT_FALSE(t.startLocalization(map, start, &why));
+    EXPECT_NE(why.find("the start pose"), std::string::npos) << why;
+    for (double time : {100.0, 101.0}) EXPECT_EQ(feed(&t, time).order, Order::kInOrder);
+  }
+  // An anchored start: odometry far from the anchor moves the first pose beyond the extent.
+  MappingSession a(p);
+  const Pose2 anchor(0.0, 0.0, 0.0);
+  ASSERT_TRUE(a.startFromMap(map, Pose2(1.0, 0.0, 0.0), &why, &anchor)) << why;
+  r = a.processScan(Pose2(1e12, 0.0, 0.0), roomScan(Pose2(), 100.0));
+  EXPECT_EQ(r.order, Order::kRefused);
+  EXPECT_NE(r.message.find("the pose its odometry gives"), std::string::npos) << r.message;
+  EXPECT_EQ(a.processScan(Pose2(0.5, 0.0, 0.0), roomScan(Pose2(), 101.0)).order, Order::kInOrder);
+}
+
 // Ranges of 10^9 m are clipped at usable_range: the map stays the size of what the laser can
 // map, not of what it claims.
 TEST(MappingSession, HugeRangesAreClippedAtTheUsableRange) {
