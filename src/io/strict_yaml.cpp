@@ -40,6 +40,30 @@ bool findDuplicateKey(const YAML::Node& root, std::string* key) {
   return false;
 }
 
+// Documents in `text`: a "---" or "..." line after content starts another (a "---" before any
+// content only opens the first).
+int documentCount(const std::string& text) {
+  int documents = 0;
+  bool content = false;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(begin, end - begin);
+    begin = end + 1;
+    const bool marker = (line.rfind("---", 0) == 0 || line.rfind("...", 0) == 0) &&
+                        (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '\r');
+    if (marker) {
+      if (content) ++documents;
+      content = false;
+      continue;
+    }
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first != std::string::npos && line[first] != '#' && line[first] != '%') content = true;
+  }
+  return documents + (content ? 1 : 0);
+}
+
 }  // namespace
 
 bool loadStrictYaml(const std::string& text, const std::string& source, YAML::Node* root,
@@ -53,11 +77,11 @@ bool loadStrictYaml(const std::string& text, const std::string& source, YAML::No
                 std::to_string(kStrictYamlMaxBytes) + " read here");
   }
   try {
-    const std::vector<YAML::Node> docs = YAML::LoadAll(text);
-    if (docs.size() > 1) {
-      return fail(std::to_string(docs.size()) + " YAML documents, one expected");
-    }
-    *root = docs.empty() ? YAML::Node() : docs.front();
+    // Not YAML::LoadAll: yaml-cpp 0.7's loops for ever on a text such as "," (its parser
+    // reports a document without consuming anything).
+    const int documents = documentCount(text);
+    if (documents > 1) return fail(std::to_string(documents) + " YAML documents, one expected");
+    *root = YAML::Load(text);
     std::string key;
     if (findDuplicateKey(*root, &key)) return fail("duplicate key " + quotedForMessage(key));
   } catch (const YAML::Exception& e) {

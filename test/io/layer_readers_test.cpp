@@ -109,6 +109,14 @@ TEST(LayerMapYaml, RefusesWhatItCannotTrust) {
   }
   double res = 0, x = 0, y = 0;
   std::string error;
+  // yaml-cpp's LoadAll never returns on these (found by layers_fuzzer): refused at once.
+  for (const char* text : {",", ", a", "\"a\",", "resolution: 0.05\n---\nresolution: 1\n"}) {
+    EXPECT_FALSE(io::parseLayerMapYaml(text, "map.yaml", &res, &x, &y, &error)) << text;
+    expectOneLine(error);
+  }
+  EXPECT_TRUE(io::parseLayerMapYaml("---\nresolution: 0.05\norigin: [0, 0]\n...\n", "map.yaml",
+                                    &res, &x, &y, &error))
+      << error;
   ASSERT_TRUE(io::readLayerMapYaml(seed("map.yaml").string(), &res, &x, &y, &error)) << error;
   EXPECT_EQ(res, 0.05);
   EXPECT_EQ(x, -1.25);
