@@ -358,7 +358,7 @@ TEST(MapFiles, DenseLayersBeyondMaxLayerCellsAreNotWritten) {
   save.map = EvidentialGridMap(0.05);
   save.map.mutableCell(0, 0) = Cell::fromStored(0.0f, 0.75f, 0.0f);
   save.map.mutableCell(20000, 3) = Cell::fromStored(0.5f, 0.25f, 0.5f);
-  SessionConfig config;  // max_layer_cells 2^24: 20001 x 4 cells fit
+  SessionConfig config;  // max_layer_cells 2^23: 20001 x 4 cells fit
   const fs::path dir = test::scratchDir();
   MapFilesReport report;
   std::string error;
@@ -370,7 +370,7 @@ TEST(MapFiles, DenseLayersBeyondMaxLayerCellsAreNotWritten) {
   ASSERT_TRUE(writeMapFiles((dir / "big").string(), save, config, &report, &error)) << error;
   EXPECT_NE(report.layers_skipped.find("20001 x 1000 cells"), std::string::npos)
       << report.layers_skipped;
-  EXPECT_NE(report.layers_skipped.find("max_layer_cells (16777216)"), std::string::npos);
+  EXPECT_NE(report.layers_skipped.find("max_layer_cells (8388608)"), std::string::npos);
   EXPECT_EQ(report.layers_skipped.find('\n'), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "big/layers"));
   EXPECT_TRUE(fs::exists(dir / "big/map.evmap"));
