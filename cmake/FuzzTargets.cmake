@@ -1,4 +1,5 @@
-# The libFuzzer targets of test/fuzz/ (rawlog, ground truth, waypoints, parameter files) and their smoke test.
+# The libFuzzer targets of test/fuzz/ (rawlog, ground truth, waypoints, parameter files, layer
+# folders) and their smoke test.
 # Included from CMakeLists.txt in the tests section, after cmake/OctomapTargets.cmake, whose probe
 # sets ES_FUZZER_BIN when clang can link -fsanitize=fuzzer. test/fuzz/ is a project of its own
 # (the package builds with gcc) configured and built with that clang by ExternalProject when the
@@ -7,7 +8,8 @@
 include(ExternalProject)
 
 set(ES_FUZZ_DIR "${CMAKE_CURRENT_BINARY_DIR}/fuzzers")
-set(ES_FUZZ_NAMES rawlog_fuzzer ground_truth_fuzzer waypoints_fuzzer yaml_config_fuzzer)
+set(ES_FUZZ_NAMES rawlog_fuzzer ground_truth_fuzzer waypoints_fuzzer yaml_config_fuzzer
+  layers_fuzzer)
 set(ES_FUZZ_BINS "")
 if(ES_FUZZER_BIN)
   foreach(name ${ES_FUZZ_NAMES})

@@ -49,6 +49,7 @@ if(CATKIN_ENABLE_TESTING)
       "${CMAKE_CURRENT_SOURCE_DIR}/test/io/map_file_fuzzer.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/io/map_file.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/io/atomic_files.cpp"
+      "${CMAKE_CURRENT_SOURCE_DIR}/src/io/error_text.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/evidential_grid.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/mass.cpp"
       "${CMAKE_CURRENT_SOURCE_DIR}/src/core/pose2.cpp"

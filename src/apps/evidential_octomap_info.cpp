@@ -3,11 +3,14 @@
 // and the anomaly; with --compare-layers it checks every voxel against the layers/ the offline
 // runner wrote for the same map.
 //   evidential_octomap_info FILE.ot [--compare-layers DIR]
-// Exit codes: 0 success, 1 bad usage, 2 unreadable file, 3 the masses differ from DIR.
+// Exit codes: 0 success, 1 bad usage, 2 unreadable file or layers, 3 the masses differ from DIR.
 #include <cstdio>
+#include <exception>
 #include <memory>
+#include <new>
 #include <string>
 
+#include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/evidential_octree.h"
 #include "evidential_slam/io/octomap_info.h"
 
@@ -30,9 +33,7 @@ int usage(const char* program, std::FILE* to, int code) {
   return code;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const char* program = argc > 0 ? argv[0] : "evidential_octomap_info";
   std::string path, layers_dir;
   for (int i = 1; i < argc; ++i) {
@@ -103,4 +104,18 @@ int main(int argc, char** argv) {
   const char* what = cmp.anomaly_compared ? "masses and anomaly" : "masses";
   std::printf("result:      %s %s\n", same ? "identical" : "DIFFERENT", what);
   return same ? 0 : 3;
+}
+
+}  // namespace
+
+// Every exception ends here as one line (exit 2): nothing of a file reaches the terminal raw.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", es::io::oneLineMessage(e.what()).c_str());
+  }
+  return 2;
 }

@@ -1,5 +1,7 @@
 #include "evidential_slam/core/parameters.h"
 
+#include <algorithm>
+
 namespace evidential_slam {
 namespace {
 
@@ -38,6 +40,22 @@ std::vector<ParameterSpec> sharedParameterSpecs() {
     specs.push_back(spec);
   });
   return specs;
+}
+
+#define ES_NODE_PARAMETER_MAX(ctx, name, member, type, def, min, max, unit, scope, meaning) \
+  if (std::string(#name) == (ctx)) return static_cast<double>(max);
+double maxDeclaredRangeSigma() {
+  static const double limit = []() -> double {
+    ES_NODE_PARAMETERS(ES_NODE_PARAMETER_MAX, "laser_range_sigma")
+    return 0.0;
+  }();
+  return limit;
+}
+#undef ES_NODE_PARAMETER_MAX
+
+float clampDeclaredRangeSigma(double sigma) {
+  if (!(sigma > 0.0)) return 0.0f;  // NaN, negative, zero: unknown
+  return static_cast<float>(std::min(sigma, maxDeclaredRangeSigma()));
 }
 
 bool isNodeParameter(const std::string& name) {

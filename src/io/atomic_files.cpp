@@ -14,6 +14,8 @@
 #include <set>
 #include <streambuf>
 
+#include "evidential_slam/io/error_text.h"
+
 namespace evidential_slam {
 namespace io {
 namespace {
@@ -96,7 +98,7 @@ struct AtomicFiles::Impl {
   std::string failure;  // why the set was abandoned; commit() refuses it
 
   bool fail(const std::string& path, const std::string& why, std::string* error) {
-    failure = "cannot write '" + path + "': " + why;
+    failure = "cannot write " + quotedPath(path) + ": " + oneLineMessage(why);
     if (error) *error = failure;
     removeTemps();
     return false;

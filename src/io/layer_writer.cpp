@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "evidential_slam/io/atomic_files.h"
+#include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/npy.h"
 
 namespace evidential_slam {
@@ -48,9 +49,25 @@ bool imageComplete(const std::string& path, const mrpt::img::CImage& written) {
 // Stages `img` as `path` in the format of its extension (PNG, PGM).
 bool stageImage(const mrpt::img::CImage& img, const std::string& path, AtomicFiles* files,
                 std::string* error) {
-  return files->addByPath(
-      path, [&](const std::string& temp) { return img.saveToFile(temp); },
+  if (img.getWidth() == 0 || img.getHeight() == 0) {
+    if (error != nullptr) *error = "cannot write '" + path + "': the map has no observed cell";
+    return false;
+  }
+  // MRPT reports some failures as exceptions with a call stack: one line instead.
+  std::string thrown;
+  const bool ok = files->addByPath(
+      path,
+      [&](const std::string& temp) {
+        try {
+          return img.saveToFile(temp);
+        } catch (const std::exception& e) {
+          thrown = oneLineMessage(e.what());
+          return false;
+        }
+      },
       [&](const std::string& temp) { return imageComplete(temp, img); }, error);
+  if (!ok && !thrown.empty() && error != nullptr) *error = "cannot write '" + path + "': " + thrown;
+  return ok;
 }
 
 // Scale of each layer's PNG. Masses, BetP, NS, IC and H live in [0, 1] (IC and H in bits over a

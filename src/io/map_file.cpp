@@ -285,8 +285,39 @@ bool stringMap(const Json& j, const char* key, std::map<std::string, std::string
   return true;
 }
 
+// The deepest nesting of arrays and objects in JSON text (strings skipped), counted without
+// parsing; stops counting past `limit`.
+int jsonNesting(const uint8_t* data, size_t size, int limit) {
+  int depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < size; ++i) {
+    const uint8_t c = data[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > limit) return deepest;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 bool parseMetadata(const uint8_t* data, size_t size, double* resolution, MapFileInfo* info,
                    std::string* why) {
+  if (jsonNesting(data, size, MapFileLimits::kMaxMetadataNesting) >
+      MapFileLimits::kMaxMetadataNesting) {
+    *why = "the metadata nests arrays or objects deeper than " +
+           std::to_string(MapFileLimits::kMaxMetadataNesting) + " levels";
+    return false;
+  }
   Json j;
   try {
     j = Json::parse(data, data + size);
@@ -307,6 +338,13 @@ bool parseMetadata(const uint8_t* data, size_t size, double* resolution, MapFile
     return false;
   }
   if (!poseFromJson(j, "robot_pose", &info->robot_pose, why)) return false;
+  if (!(std::abs(info->robot_pose.x) <= MapFileLimits::kMaxPoseCoordinate &&
+        std::abs(info->robot_pose.y) <= MapFileLimits::kMaxPoseCoordinate)) {
+    *why = "robot_pose: (" + std::to_string(info->robot_pose.x) + ", " +
+           std::to_string(info->robot_pose.y) + ") m is farther than " +
+           std::to_string(MapFileLimits::kMaxPoseCoordinate) + " m from the map frame's origin";
+    return false;
+  }
   info->has_odometry_pose = j.contains("odometry_pose");
   if (info->has_odometry_pose && !poseFromJson(j, "odometry_pose", &info->odometry_pose, why)) {
     return false;

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <sstream>
 
-#include <yaml-cpp/yaml.h>
-
 #include "evidential_slam/core/fusion/layer_map.h"
 #include "evidential_slam/core/layers.h"
+#include "evidential_slam/io/error_text.h"
+#include "evidential_slam/io/layer_yaml.h"
 #include "evidential_slam/io/npy.h"
 
 namespace evidential_slam {
@@ -37,19 +37,7 @@ bool readLayerDirectory(const std::string& dir, LayerRaster* raster, std::string
   const fs::path root(dir);
   const fs::path yaml_path = root / "map.yaml";
   LayerRaster r;
-  try {
-    const YAML::Node yaml = YAML::LoadFile(yaml_path.string());
-    r.resolution = yaml["resolution"].as<double>();
-    const YAML::Node origin = yaml["origin"];
-    if (!origin.IsSequence() || origin.size() < 2) throw YAML::Exception(YAML::Mark(), "origin");
-    r.origin_x = origin[0].as<double>();
-    r.origin_y = origin[1].as<double>();
-    if (origin.size() >= 3 && origin[2].as<double>() != 0.0) {
-      *error = "'" + yaml_path.string() + "': a rotated origin is not a layer raster";
-      return false;
-    }
-  } catch (const std::exception& e) {
-    *error = "'" + yaml_path.string() + "': no resolution and origin (" + e.what() + ")";
+  if (!readLayerMapYaml(yaml_path.string(), &r.resolution, &r.origin_x, &r.origin_y, error)) {
     return false;
   }
   bool have_size = false;
@@ -57,10 +45,22 @@ bool readLayerDirectory(const std::string& dir, LayerRaster* raster, std::string
     const std::string path = (root / (name + ".npy")).string();
     if (!readNpy(path, array, error)) return false;
     if (array->shape.size() != 2) {
-      *error = "'" + path + "' is not a 2-D array";
+      *error = quotedPath(path) + ": 'shape' is not 2-D";
       return false;
     }
+    // readNpy bounds each dimension (kNpyMaxExtent < INT_MAX); the far corner is bounded as the
+    // origin is.
     const int rows = static_cast<int>(array->shape[0]), cols = static_cast<int>(array->shape[1]);
+    const double limit = layerExtentLimit();
+    if (std::abs(r.origin_x + cols * r.resolution) > limit ||
+        std::abs(r.origin_y + rows * r.resolution) > limit) {
+      std::ostringstream msg;
+      msg << quotedPath(path) << ": 'shape' " << rows << " x " << cols << " at " << r.resolution
+          << " m from the origin of map.yaml reaches farther than " << limit
+          << " m (the largest max_map_extent)";
+      *error = msg.str();
+      return false;
+    }
     if (!have_size) {
       r.height = rows;
       r.width = cols;
@@ -80,7 +80,7 @@ bool readLayerDirectory(const std::string& dir, LayerRaster* raster, std::string
     if (!readLayer(layerName(l), &array)) return false;
     r.values[static_cast<int>(l)] = array.asFloat32();
     if (r.values[static_cast<int>(l)].size() != array.elementCount()) {
-      *error = "'" + (root / (layerName(l) + ".npy")).string() + "' is not float32";
+      *error = quotedPath((root / (layerName(l) + ".npy")).string()) + ": not float32";
       return false;
     }
   }
@@ -88,7 +88,7 @@ bool readLayerDirectory(const std::string& dir, LayerRaster* raster, std::string
   if (!readLayer("observed", &observed)) return false;
   r.observed = observed.asUint8();
   if (r.observed.size() != observed.elementCount()) {
-    *error = "'" + (root / "observed.npy").string() + "' is not uint8";
+    *error = quotedPath((root / "observed.npy").string()) + ": not uint8";
     return false;
   }
   *raster = std::move(r);
@@ -108,13 +108,13 @@ bool readMapInput(const std::string& path, EvidentialGridMap* map, MapInput* inp
     return true;
   }
   if (!isDirectory(p)) {
-    *error = "map '" + path + "' does not exist";
+    *error = "map " + quotedPath(path) + " does not exist";
     return false;
   }
   fs::path layers = p / "layers";
   if (!isFile(layers / "map.yaml")) layers = p;  // the layers directory itself
   if (!isFile(layers / "map.yaml")) {
-    *error = "'" + path + "' holds no " + kMapFileName + " and no layers/map.yaml: not a map";
+    *error = quotedPath(path) + " holds no " + kMapFileName + " and no layers/map.yaml: not a map";
     return false;
   }
   LayerRaster raster;
@@ -122,7 +122,7 @@ bool readMapInput(const std::string& path, EvidentialGridMap* map, MapInput* inp
   std::string why;
   EvidentialGridMap rebuilt;
   if (!fusion::mapFromLayers(raster, &rebuilt, &in.offset, &why)) {
-    *error = "'" + layers.string() + "': " + why;
+    *error = quotedPath(layers.string()) + ": " + why;
     return false;
   }
   in.kind = MapInput::Kind::kLayers;

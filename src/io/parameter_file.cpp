@@ -7,7 +7,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "evidential_slam/core/parameters.h"
 #include "evidential_slam/io/error_text.h"
+#include "evidential_slam/io/strict_yaml.h"
 
 namespace evidential_slam {
 namespace io {
@@ -21,6 +23,15 @@ std::string normaliseSwitch(const std::string& text) {
   if (lower == "true" || lower == "yes" || lower == "on") return "true";
   if (lower == "false" || lower == "no" || lower == "off") return "false";
   return text;
+}
+
+// A shared parameter whose value is a number or a switch.
+bool numericParameter(const std::string& name) {
+  static const std::vector<ParameterSpec> specs = sharedParameterSpecs();
+  for (const ParameterSpec& spec : specs) {
+    if (name == spec.name) return std::string(spec.type) != "std::string";
+  }
+  return false;
 }
 
 }  // namespace
@@ -49,7 +60,11 @@ bool readParameterText(const std::string& text, const std::string& source,
     return false;
   };
   try {
-    const YAML::Node root = YAML::Load(text);
+    // One document, no key twice (strict_yaml.h): the last of two `particles:` lines or a
+    // second document must not win or vanish silently.
+    YAML::Node root;
+    std::string why;
+    if (!loadStrictYaml(text, "", &root, &why)) return fail(why.substr(2));  // drops ": "
     if (root.IsNull()) return true;
     if (!root.IsMap()) return fail("not a map of `name: value` lines");
     for (const auto& item : root) {
@@ -57,6 +72,11 @@ bool readParameterText(const std::string& text, const std::string& source,
       const std::string name = item.first.Scalar();
       if (!item.second.IsScalar()) {
         return fail(quotedForMessage(name) + ": the value is not a single value");
+      }
+      // A quoted value is text: "5" for a number or a switch is refused, as ROS would read it.
+      if (item.second.Tag() == "!" && numericParameter(name)) {
+        return fail(quotedForMessage(name) + ": " + quotedForMessage(item.second.Scalar()) +
+                    " is quoted text; a number or switch is written without quotes");
       }
       entries->emplace_back(name, normaliseSwitch(item.second.Scalar()));
     }

@@ -28,6 +28,8 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
+#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/stamp_order.h"
 #include "evidential_slam/io/error_text.h"
 #include "rawlog_precheck.h"
 
@@ -110,7 +112,9 @@ struct RawlogReader::Impl {
   double pending_increment_stamp = 0.0;
   std::deque<OdometrySample> samples;
   std::deque<RawlogScan> pending;
-  double last_scan_stamp = -std::numeric_limits<double>::infinity();
+  // The stamp policy of the session (core/stamp_order.h), for the scans and the odometry.
+  StampOrder scan_order{config.stamps};
+  StampOrder odometry_order{config.stamps};
 
   // Stops reading: the data from entry `entry` (1-based) on cannot be used.
   void fail(Status status, const std::string& why) {
@@ -189,9 +193,21 @@ struct RawlogReader::Impl {
       warned_mixed_sources = true;
       return;
     }
-    if (!samples.empty() && stamp < samples.back().stamp) {
-      ++counts.odometry_out_of_order;  // interpolation needs samples in time order
-      return;
+    // Interpolation needs samples in time order: a sample a little older than the one before is
+    // skipped; one stamped far off is an outlier, skipped once; a real jump back starts the
+    // samples over.
+    switch (odometry_order.next(stamp)) {
+      case StampOrder::Verdict::kDropped:
+        ++counts.odometry_out_of_order;
+        return;
+      case StampOrder::Verdict::kOutlier:
+        ++counts.odometry_stamp_outliers;
+        return;
+      case StampOrder::Verdict::kJumpedBack:
+        samples.clear();
+        break;
+      default:
+        break;
     }
     ++counts.odometry_samples;
     samples.push_back({stamp, pose});
@@ -208,11 +224,16 @@ struct RawlogReader::Impl {
     out.label = obs.sensorLabel;
     LaserScan& s = out.scan;
     s.stamp = toSeconds(obs.timestamp);
-    if (s.stamp < last_scan_stamp) {
-      ++counts.scans_out_of_order;
-      return;
+    switch (scan_order.next(s.stamp)) {
+      case StampOrder::Verdict::kDropped:
+        ++counts.scans_out_of_order;
+        return;
+      case StampOrder::Verdict::kOutlier:
+        ++counts.scan_stamp_outliers;
+        return;
+      default:
+        break;
     }
-    last_scan_stamp = s.stamp;
     // The scan plane in the robot frame: the sensor's x axis gives the yaw; a sensor mounted upside
     // down (its z axis pointing down) sweeps the other way round.
     const auto R = obs.sensorPose.getRotationMatrix();
@@ -220,7 +241,9 @@ struct RawlogReader::Impl {
     const bool flipped = R(2, 2) < 0.0;
     s.sensor_pose = Pose2(obs.sensorPose.x(), obs.sensorPose.y(), yaw);
     s.max_range = obs.maxRange;
-    s.range_sigma = obs.stdError;  // the sensor's declared range noise feeds the beam models
+    // The sensor's declared range noise feeds the beam models, bounded as the node's is.
+    s.range_sigma = clampDeclaredRangeSigma(obs.stdError);
+    if (s.range_sigma < obs.stdError) ++counts.scans_noise_clamped;
     const size_t n = obs.getScanSize();
     s.ranges.resize(n);
     s.bearings.resize(n);
@@ -559,6 +582,16 @@ std::vector<std::string> RawlogReader::warnings() const {
                 std::to_string(impl_->counts.scans_out_of_order) + " scans and " +
                 std::to_string(impl_->counts.odometry_out_of_order) +
                 " odometry samples older than the one before them");
+  }
+  if (impl_->counts.scan_stamp_outliers > 0 || impl_->counts.odometry_stamp_outliers > 0) {
+    w.push_back("skipped " + std::to_string(impl_->counts.scan_stamp_outliers) + " scans and " +
+                std::to_string(impl_->counts.odometry_stamp_outliers) +
+                " odometry samples stamped far from the ones around them (outliers)");
+  }
+  if (impl_->counts.scans_noise_clamped > 0) {
+    w.push_back(std::to_string(impl_->counts.scans_noise_clamped) +
+                " scans declared a range noise (stdError) above " +
+                number(maxDeclaredRangeSigma()) + " m, the largest laser_range_sigma: used that");
   }
   if (impl_->counts.scans_without_odometry > 0) {
     w.push_back(std::to_string(impl_->counts.scans_without_odometry) +

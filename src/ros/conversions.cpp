@@ -10,6 +10,7 @@
 #include <tf2/LinearMath/Vector3.h>
 
 #include "evidential_slam/core/measures.h"
+#include "evidential_slam/core/parameters.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -136,7 +137,7 @@ bool scanFromRos(const sensor_msgs::LaserScan& msg, const Pose2& laser_in_base, 
   s.stamp = msg.header.stamp.toSec();
   s.sensor_pose = laser_in_base;
   s.max_range = msg.range_max;
-  s.range_sigma = range_sigma;
+  s.range_sigma = clampDeclaredRangeSigma(range_sigma);  // the rawlog reader's bound too
   const size_t n = msg.ranges.size();
   s.ranges.resize(n);
   s.bearings.resize(n);

@@ -261,11 +261,12 @@ void SlamNodelet::onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(watchdog_mutex_);
   // ROS time going back is a real restart (a looping bag's /clock), not a stamp outlier.
   const ros::Time now = ros::Time::now();
-  double tolerance = 0.0;
+  SessionConfig session_params;
   {
     std::lock_guard<std::mutex> params_lock(params_mutex_);
-    tolerance = params_.session.time_jump_tolerance;
+    session_params = params_.session;
   }
+  const double tolerance = session_params.time_jump_tolerance;
   if (!last_arrival_ros_time_.isZero() && (last_arrival_ros_time_ - now).toSec() > tolerance) {
     char reason[160];
     std::snprintf(reason, sizeof(reason), "ROS time jumped back by %.3f s (%.3f -> %.3f)",
@@ -276,6 +277,20 @@ void SlamNodelet::onRawScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     // behind /clock can land after that clear and make every new transform "too old" for
     // cache_time; clearing again at the new loop's first scan drops it.
     tf_buffer_->clear();
+    scan_stamps_.reset();
+  }
+  // The scans' stamps jumped back (the session's policy) while ROS time did not: a burst of
+  // future stamps, then normal ones. tf2's buffer holds that future and refuses every later
+  // transform as too old (TF_OLD_DATA) until the clock catches up: cleared, and said.
+  scan_stamps_.setPolicy(stampPolicy(session_params));
+  const double previous_stamp = scan_stamps_.last();
+  if (scan_stamps_.next(msg->header.stamp.toSec()) == StampOrder::Verdict::kJumpedBack) {
+    tf_buffer_->clear();
+    NODELET_WARN_THROTTLE(10.0,
+                          "scan stamps jumped back by %.3f s (%.3f -> %.3f) for %d scans in a "
+                          "row: the transform buffer is cleared",
+                          previous_stamp - msg->header.stamp.toSec(), previous_stamp,
+                          msg->header.stamp.toSec(), session_params.time_jump_scans);
   }
   last_arrival_ros_time_ = now;
   last_raw_scan_ = msg;
@@ -562,6 +577,7 @@ bool SlamNodelet::saveMap(SaveMap::Request& request, SaveMap::Response& response
   response.success = true;
   response.message =
       "saved " + std::to_string(response.files.size()) + " files to " + request.directory;
+  if (!report.layers_skipped.empty()) response.message += "; " + report.layers_skipped;
   NODELET_INFO("save_map: %s", response.message.c_str());
   return true;
 }
@@ -787,6 +803,7 @@ bool SlamNodelet::loadMap(LoadMap::Request& request, LoadMap::Response& response
                              : startOnMap(loaded.map, pose, have_odometry ? &odometry : nullptr,
                                           &why);
     if (started) {
+      clearTransforms();
       char text[256];
       std::snprintf(text, sizeof(text), "%s on %s (%zu tiles, %g m cells) at (%.3f, %.3f, "
                     "%.3f)%s",
@@ -825,6 +842,7 @@ bool SlamNodelet::pauseMapping(std_srvs::SetBool::Request& request,
 bool SlamNodelet::resetSlam(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   if (localizationMode()) {
     worker_->changeOnWorker([](MappingSession& session) { session.reset(); }, true);
+    clearTransforms();
     NODELET_INFO("reset: the particles start again as they did on the map");
     return true;
   }
@@ -839,8 +857,15 @@ bool SlamNodelet::resetSlam(std_srvs::Empty::Request&, std_srvs::Empty::Response
     std::lock_guard<std::mutex> lock(transform_mutex_);
     have_transform_ = false;
   }
+  clearTransforms();
   NODELET_INFO("%s", message.c_str());
   return true;
+}
+
+void SlamNodelet::clearTransforms() {
+  std::lock_guard<std::mutex> lock(watchdog_mutex_);
+  tf_buffer_->clear();  // static transforms stay (tf2's static cache ignores clear)
+  scan_stamps_.reset();
 }
 
 bool SlamNodelet::globalLocalization(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

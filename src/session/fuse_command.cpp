@@ -6,6 +6,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 #include "evidential_slam/core/fusion/map_score.h"
 #include "evidential_slam/io/build_info.h"
 #include "evidential_slam/io/command_line.h"
+#include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/map_file.h"
 #include "evidential_slam/io/map_input.h"
 #include "evidential_slam/io/occupancy_image.h"
@@ -281,7 +283,10 @@ bool parseFuseArgs(const std::vector<std::string>& args, FuseOptions* o, bool* h
 }
 
 int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
+  // A failed fusion leaves no folder it made (the files are staged, the folders are not).
+  const OutputFolders folders(options.out_dir);
   auto failWith = [&](int code, const std::string& message) {
+    folders.removeCreated();
     std::fprintf(err, "error: %s\n", message.c_str());
     return code;
   };
@@ -306,6 +311,22 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
         msg << "map '" << options.maps[i] << "' has " << r << " m cells and '" << options.maps[0]
             << "' " << r0 << " m: fusion needs one resolution";
         return failWith(kExitBadInput, msg.str());
+      }
+    }
+    // Fusion works over the maps' observed boxes: bounded up front (max_layer_cells), with the
+    // size it would need, as the saved layers are.
+    CellBox all;
+    for (size_t i = 0; i < n; ++i) {
+      std::string why;
+      if (!denseLayersFit(maps[i], options.session, &why)) {
+        return failWith(kExitBadInput, "map " + quotedPath(options.maps[i]) + ": " + why);
+      }
+      all.extend(maps[i].observedBox());
+    }
+    {
+      std::string why;
+      if (!denseLayersFit(all, maps[0].resolution(), options.session, &why)) {
+        return failWith(kExitBadInput, "the maps together: " + why);
       }
     }
     const double read_s = secondsSince(start);
@@ -480,8 +501,10 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
       std::fprintf(out, "  written to %s (fusion.json)\n", options.out_dir.c_str());
     }
     return kExitOk;
+  } catch (const std::bad_alloc&) {
+    return failWith(kExitInternal, "internal error: out of memory");
   } catch (const std::exception& e) {
-    return failWith(kExitInternal, std::string("internal error: ") + e.what());
+    return failWith(kExitInternal, "internal error: " + oneLineMessage(e.what()));
   }
 }
 

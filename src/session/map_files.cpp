@@ -6,6 +6,7 @@
 
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/io/atomic_files.h"
+#include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/layer_writer.h"
 #include "evidential_slam/io/octomap_export.h"
 #include "evidential_slam/io/trajectory_io.h"
@@ -20,8 +21,8 @@ bool makeDirectory(const fs::path& dir, std::string* error) {
   fs::create_directories(dir, ec);
   if (!ec && fs::is_directory(dir)) return true;
   if (error != nullptr) {
-    *error = "cannot create output directory '" + dir.string() +
-             "': " + (ec ? ec.message() : "not a directory");
+    *error = "cannot create output directory " + io::quotedPath(dir.string()) + ": " +
+             (ec ? ec.message() : "not a directory");
   }
   return false;
 }
@@ -98,7 +99,7 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
   io::AtomicFiles* files = staged != nullptr ? staged : &own;
   const fs::path root(dir);
   const fs::path layers_dir = root / "layers";
-  if (!makeDirectory(layers_dir, error)) return false;
+  if (!makeDirectory(root, error)) return false;
 
   // The lossless map first: it is what a later run continues from.
   const std::string evmap = (root / io::kMapFileName).string();
@@ -115,20 +116,25 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
   report->files.push_back(csv);
 
   const EvidentialGridMap& map = save.map;
-  const LayerRaster raster = extractLayers(map, 10, &save.anomaly);
-  io::LayerWriterConfig layer_config;
-  layer_config.occupied_thresh = config.occupied_thresh;
-  layer_config.free_thresh = config.free_thresh;
-  io::LayerWriteResult written;
-  if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error, files) ||
-      !io::writeMapServerLayers(raster, layers_dir.string(), layer_config, &report->files,
-                                error, files)) {
-    return false;
+  if (!denseLayersFit(map, config, &report->layers_skipped)) {
+    report->layers_skipped = "layers/ not written: " + report->layers_skipped;
+  } else {
+    if (!makeDirectory(layers_dir, error)) return false;
+    const LayerRaster raster = extractLayers(map, 10, &save.anomaly);
+    io::LayerWriterConfig layer_config;
+    layer_config.occupied_thresh = config.occupied_thresh;
+    layer_config.free_thresh = config.free_thresh;
+    io::LayerWriteResult written;
+    if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error, files) ||
+        !io::writeMapServerLayers(raster, layers_dir.string(), layer_config, &report->files, error,
+                                  files)) {
+      return false;
+    }
+    report->files.insert(report->files.end(), written.files.begin(), written.files.end());
+    report->map_width = raster.width;
+    report->map_height = raster.height;
+    report->external_conflict_scale = written.external_conflict_scale;
   }
-  report->files.insert(report->files.end(), written.files.begin(), written.files.end());
-  report->map_width = raster.width;
-  report->map_height = raster.height;
-  report->external_conflict_scale = written.external_conflict_scale;
 
   if (config.export_octomap) {
     const fs::path octomap_dir = root / "octomap";
@@ -161,6 +167,49 @@ bool loadMapFile(const std::string& path, LoadedMap* out, std::string* error) {
   if (!io::readMapFile(loaded.path, &loaded.map, &loaded.info, error)) return false;
   *out = std::move(loaded);
   return true;
+}
+
+bool denseLayersFit(const EvidentialGridMap& map, const SessionConfig& config, std::string* why) {
+  return denseLayersFit(map.observedBox(), map.resolution(), config, why);
+}
+
+bool denseLayersFit(const CellBox& box, double resolution, const SessionConfig& config,
+                    std::string* why) {
+  if (box.empty() || config.max_layer_cells <= 0) return true;
+  const double cells = static_cast<double>(box.width()) * static_cast<double>(box.height());
+  if (cells <= config.max_layer_cells) return true;
+  if (why != nullptr) {
+    char text[300];
+    // About 60 bytes a cell: ten float32 layers, observed, the PNGs and PGMs while they are made.
+    std::snprintf(text, sizeof(text),
+                  "the observed box is %d x %d cells (%.0f m x %.0f m), %.3g cells, more than "
+                  "max_layer_cells (%d); its dense layers would need about %.1f GB",
+                  box.width(), box.height(), box.width() * resolution, box.height() * resolution,
+                  cells, config.max_layer_cells, cells * 60.0 / 1e9);
+    *why = text;
+  }
+  return false;
+}
+
+OutputFolders::OutputFolders(const std::string& dir) : dir_(dir) {
+  if (dir_.empty()) return;
+  std::error_code ec;
+  const fs::path root(dir_);
+  dir_existed_ = fs::exists(root, ec) || ec;  // unsure: keep it
+  layers_existed_ = fs::exists(root / "layers", ec) || ec;
+  octomap_existed_ = fs::exists(root / "octomap", ec) || ec;
+}
+
+void OutputFolders::removeCreated() const {
+  if (dir_.empty()) return;
+  std::error_code ec;
+  const fs::path root(dir_);
+  if (!dir_existed_) {
+    fs::remove_all(root, ec);
+    return;
+  }
+  if (!layers_existed_) fs::remove_all(root / "layers", ec);
+  if (!octomap_existed_) fs::remove_all(root / "octomap", ec);
 }
 
 }  // namespace evidential_slam

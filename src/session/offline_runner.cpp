@@ -211,6 +211,7 @@ int Run::execute() {
   // Pre-pass: early, clear errors and the total for the progress line.
   RawlogReaderConfig reader_config;
   reader_config.laser_label = opt_.laser_label;
+  reader_config.stamps = stampPolicy(opt_.params.session);
   RawlogSurvey survey;
   if (!surveyRawlog(opt_.rawlog, reader_config, &survey, &why)) return fail(kExitBadInput, why);
   if (survey.status == RawlogReader::Status::kError) return fail(kExitBadInput, survey.message);
@@ -238,8 +239,8 @@ int Run::execute() {
   std::error_code ec;
   fs::create_directories(out_dir_, ec);
   if (ec || !fs::is_directory(out_dir_)) {
-    return fail(kExitBadInput, "cannot create output directory '" + out_dir_.string() +
-                                   "': " + (ec ? ec.message() : "not a directory"));
+    return fail(kExitBadInput, "cannot create output directory " + quotedPath(out_dir_.string()) +
+                                   ": " + (ec ? ec.message() : "not a directory"));
   }
 
   RawlogReader reader(reader_config);
@@ -382,6 +383,13 @@ int Run::execute() {
   MapSave save = captureMapSave(*session);
   session.reset();
   releaseFreeHeapMemory();
+  if (save.map.observedBox().empty()) {
+    return fail(kExitBadInput, "no map: none of the " + std::to_string(given) +
+                                   " scans read from '" + opt_.rawlog + "' had a usable range (" +
+                                   std::to_string(rejected) + " rejected, " +
+                                   std::to_string(stats.rays_bad) + " of " +
+                                   std::to_string(stats.rays_total) + " rays unusable)");
+  }
   save.info.metadata["source"] = source;
   save.info.metadata["first_scan"] = std::to_string(opt_.first_scan);
   save.info.metadata["next_scan"] = std::to_string(opt_.first_scan + given);
@@ -404,6 +412,7 @@ int Run::execute() {
   if (!writeMapFiles(out_dir_.string(), save, opt_.params.session, &files, &why, &outputs_)) {
     return fail(kExitBadInput, why);
   }
+  if (!files.layers_skipped.empty()) warn(files.layers_skipped);
   summary_.map_file = MapFileSummary{fs::path(files.map_file).lexically_relative(out_dir_).string(),
                                      files.map_file_stats.file_bytes, files.map_file_stats.tiles};
   for (const std::string& f : files.files) {
@@ -491,8 +500,12 @@ int Run::execute() {
                  l.real_time_factor, l.real_time_factor_cpu,
                  (out_dir_ / "localization.csv").string().c_str());
   }
-  std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, PGM, map.yaml)\n",
-               (out_dir_ / "layers").string().c_str(), summary_.map_width, summary_.map_height);
+  if (summary_.map_width > 0) {
+    std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, PGM, map.yaml)\n",
+                 (out_dir_ / "layers").string().c_str(), summary_.map_width, summary_.map_height);
+  } else {
+    std::fprintf(out_, "layers:     not written (max_layer_cells)\n");
+  }
   if (summary_.octomap) {
     const MapExportSummary& o = *summary_.octomap;
     uint64_t bytes = 0;
@@ -731,16 +744,21 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
 }
 
 int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty) {
+  // A failed run leaves no folder it made: the output directory (or its layers/ and octomap/ in
+  // one that existed) is removed unless it was there before. The files are staged (AtomicFiles)
+  // and dropped on failure already.
+  const OutputFolders folders(options.out_dir);
+  int code = kExitInternal;
   try {
     Run run(options, out, err, err_is_tty);
-    return run.execute();
+    code = run.execute();
   } catch (const std::bad_alloc&) {
     std::fprintf(err, "error: out of memory\n");
-    return kExitInternal;
   } catch (const std::exception& e) {
     std::fprintf(err, "error: unexpected failure: %s\n", oneLineMessage(e.what()).c_str());
-    return kExitInternal;
   }
+  if (code != kExitOk) folders.removeCreated();
+  return code;
 }
 
 }  // namespace io

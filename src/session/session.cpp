@@ -17,6 +17,32 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, do
 
 }  // namespace
 
+StampPolicy stampPolicy(const SessionConfig& c) {
+  StampPolicy p;
+  p.tolerance = c.time_jump_tolerance;
+  p.forward = c.time_jump_forward;
+  p.scans = c.time_jump_scans;
+  return p;
+}
+
+bool poseWithinMapExtent(const Pose2& pose, double max_map_extent, const std::string& what,
+                         std::string* why) {
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.theta)) {
+    if (why != nullptr) *why = what + " is not finite";
+    return false;
+  }
+  if (std::abs(pose.x) > max_map_extent || std::abs(pose.y) > max_map_extent) {
+    if (why != nullptr) {
+      *why = what + format(
+                        " (%.6g, %.6g) m is farther than max_map_extent (%.0f m) from the "
+                        "map frame's origin",
+                        pose.x, pose.y, max_map_extent);
+    }
+    return false;
+  }
+  return true;
+}
+
 MappingSession::MappingSession(const Parameters& params)
     : params_(params),
       engine_(std::make_unique<SlamEngine>(params.slam)),
@@ -41,6 +67,15 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
   if (!std::isfinite(odometry.x) || !std::isfinite(odometry.y) || !std::isfinite(odometry.theta)) {
     return refuse("scan at " + format("%.3f", stamp) + " refused: its odometry pose is not finite");
   }
+  if (!have_origin_ && localizer_ == nullptr) {
+    // Where the first scan puts the robot in the map frame (a fresh map's frame is the odom
+    // frame; a start map's is its pose, moved by the odometry since its anchor).
+    std::string why;
+    if (!poseWithinMapExtent(engine_->poseBeforeFirstScan(odometry), c.max_map_extent,
+                             "the pose its odometry gives", &why)) {
+      return refuse(format("scan at %.3f refused: ", stamp) + why);
+    }
+  }
   if (have_origin_) {
     const double distance = std::hypot(odometry.x - origin_.x, odometry.y - origin_.y);
     if (distance > c.max_map_extent) {
@@ -50,43 +85,41 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
     }
   }
 
-  if (have_last_stamp_) {
-    const double step = stamp - last_stamp_;
-    const bool back = step < -c.time_jump_tolerance;
-    const bool ahead = step > c.time_jump_forward;
-    if (back || ahead) {
-      if (jumps_in_a_row_ == 0 || jump_back_ != back) jumps_in_a_row_ = 0;
-      jump_back_ = back;
-      ++jumps_in_a_row_;
-      if (jumps_in_a_row_ < c.time_jump_scans) {
-        ++outliers_;
-        result.order = SessionScanResult::Order::kOutlier;
-        result.message = "scan at " + format("%.3f", stamp) + " dropped: stamped " +
-                         format("%.3f", std::abs(step)) + " s " + (back ? "behind" : "ahead of") +
-                         " the previous one (" + format("%.3f", last_stamp_) + "), an outlier; " +
-                         std::to_string(jumps_in_a_row_) + " of " +
-                         std::to_string(c.time_jump_scans) + " such scans in a row before " +
-                         (back ? "the SLAM starts over" : "time moves on");
-        return result;
-      }
-      jumps_in_a_row_ = 0;
-      if (back) {
-        const std::string reason = format("time jumped back by %.3f s (%.3f -> %.3f)", -step,
-                                          last_stamp_, stamp) +
-                                   " for " + std::to_string(c.time_jump_scans) + " scans in a row";
-        restart(reason, &result.message);
-        result.order = SessionScanResult::Order::kRestarted;
-      }
-    } else if (step < 0.0) {
-      jumps_in_a_row_ = 0;
+  // The stamp policy shared with the rawlog reader (core/stamp_order.h).
+  order_.setPolicy(stampPolicy(c));
+  const double previous = order_.last();
+  const double step = stamp - previous;
+  switch (order_.next(stamp)) {
+    case StampOrder::Verdict::kOutlier: {
+      const bool back = step < 0.0;
+      ++outliers_;
+      result.order = SessionScanResult::Order::kOutlier;
+      result.message = "scan at " + format("%.3f", stamp) + " dropped: stamped " +
+                       format("%.3f", std::abs(step)) + " s " + (back ? "behind" : "ahead of") +
+                       " the previous one (" + format("%.3f", previous) + "), an outlier; " +
+                       std::to_string(order_.jumpsInARow()) + " of " +
+                       std::to_string(c.time_jump_scans) + " such scans in a row before " +
+                       (back ? "the SLAM starts over" : "time moves on");
+      return result;
+    }
+    case StampOrder::Verdict::kDropped:
       ++dropped_;
       result.order = SessionScanResult::Order::kDropped;
-      result.message = format("scan at %.3f is older than the previous one (%.3f): dropped", stamp,
-                              last_stamp_);
+      result.message =
+          format("scan at %.3f is older than the previous one (%.3f): dropped", stamp, previous);
       return result;
-    } else {
-      jumps_in_a_row_ = 0;
+    case StampOrder::Verdict::kJumpedBack: {
+      const std::string reason =
+          format("time jumped back by %.3f s (%.3f -> %.3f)", -step, previous, stamp) + " for " +
+          std::to_string(c.time_jump_scans) + " scans in a row";
+      restart(reason, &result.message);  // forgets the stamp order: this stamp starts it again
+      order_.next(stamp);
+      result.order = SessionScanResult::Order::kRestarted;
+      break;
     }
+    case StampOrder::Verdict::kInOrder:
+    case StampOrder::Verdict::kJumpedAhead:
+      break;
   }
   have_last_stamp_ = true;
   last_stamp_ = stamp;
@@ -153,7 +186,7 @@ void MappingSession::forgetScanOrder() {
   alarm_.reset();
   conflict_log_.clear();
   have_last_stamp_ = false;
-  jumps_in_a_row_ = 0;
+  order_.reset();
   have_origin_ = false;
 }
 
@@ -187,6 +220,10 @@ bool MappingSession::startLocalizer(Localizer* localizer, const LocalizationStar
 
 bool MappingSession::startLocalization(const EvidentialGridMap& map, const LocalizationStart& start,
                                        std::string* why) {
+  if (!start.global &&
+      !poseWithinMapExtent(start.pose, params_.session.max_map_extent, "the start pose", why)) {
+    return false;
+  }
   auto localizer = std::make_unique<Localizer>(params_.localization, engine_->config());
   if (!localizer->setMap(map, why) || !startLocalizer(localizer.get(), start, why)) return false;
   localizer_ = std::move(localizer);
@@ -201,6 +238,10 @@ bool MappingSession::restartLocalization(const LocalizationStart& start, std::st
     if (why != nullptr) *why = "not in localization mode";
     return false;
   }
+  if (!start.global &&
+      !poseWithinMapExtent(start.pose, params_.session.max_map_extent, "the start pose", why)) {
+    return false;
+  }
   if (!startLocalizer(localizer_.get(), start, why)) return false;
   localization_start_ = start;
   return true;
@@ -208,6 +249,9 @@ bool MappingSession::restartLocalization(const LocalizationStart& start, std::st
 
 bool MappingSession::startFromMap(const EvidentialGridMap& map, const Pose2& pose, std::string* why,
                                   const Pose2* odometry) {
+  if (!poseWithinMapExtent(pose, params_.session.max_map_extent, "the start pose", why)) {
+    return false;
+  }
   const double resolution = map.resolution();
   if (!(resolution > 0.0) || std::abs(resolution - params_.slam.resolution) <= 1e-9 * resolution) {
     if (!engine_->startFromMap(map, pose, why, odometry)) return false;

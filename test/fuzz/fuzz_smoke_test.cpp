@@ -79,7 +79,8 @@ TEST_P(FuzzSmoke, SurvivesItsCorpusAndAFixedNumberOfFuzzedInputs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Readers, FuzzSmoke,
-                         ::testing::Values("rawlog", "ground_truth", "waypoints", "yaml_config"),
+                         ::testing::Values("rawlog", "ground_truth", "waypoints", "yaml_config",
+                                           "layers"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

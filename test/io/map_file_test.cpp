@@ -481,6 +481,17 @@ TEST(MapFileDamage, BadMetadata) {
   // Members this version does not know are ignored.
   EXPECT_EQ(
       decodeError(with(R"({"resolution": 0.1, )" + pose + ", " + rest + R"(, "later": [1]})")), "");
+  // Nesting is bounded before parsing (a million brackets once took over a minute); brackets in
+  // strings do not count.
+  const auto nested = [&](int depth) {
+    return with(R"({"resolution": 0.1, )" + pose + ", " + rest + R"(, "later": )" +
+                std::string(depth, '[') + std::string(depth, ']') +
+                R"(, "s": "[[[[[[[[[[[[[[[["})");
+  };
+  const int limit = MapFileLimits::kMaxMetadataNesting;
+  EXPECT_EQ(decodeError(nested(limit - 1)), "");
+  EXPECT_REFUSED(nested(limit), "nests arrays or objects deeper than 16 levels");
+  EXPECT_REFUSED(nested(1000000), "nests arrays or objects deeper than 16 levels");
 }
 
 TEST(MapFileDamage, ReservedBytesMustBeZero) {

@@ -180,6 +180,32 @@ TEST(OfflineArgs, BadConfigFiles) {
   EXPECT_NE(error.find("particels"), std::string::npos) << error;
 }
 
+// What YAML readers accept silently and a user did not mean: a key given twice (the last won), a
+// second document (ignored) and a quoted number (text, which ROS would not read as a number). Each
+// is one line naming the file; a quoted string parameter stays fine.
+TEST(OfflineArgs, AmbiguousConfigFilesAreRefused) {
+  const TempFile twice("particles: 30\nparticles: 40\n");
+  const TempFile documents("particles: 30\n---\nparticles: 40\n");
+  const TempFile quoted("particles: \"5\"\n");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {twice.path, "duplicate key 'particles'"},
+      {documents.path, "2 YAML documents"},
+      {quoted.path, "'particles': '5' is quoted text"}};
+  for (const auto& [path, what] : cases) {
+    OfflineOptions o;
+    std::string error;
+    EXPECT_FALSE(parse({"--rawlog", "a", "--out", "b", "--config", path}, &o, &error)) << path;
+    EXPECT_NE(error.find(path), std::string::npos) << error;
+    EXPECT_NE(error.find(what), std::string::npos) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+  const TempFile text("map_frame: \"5\"\nparticles: 5\n");
+  OfflineOptions o;
+  std::string error;
+  EXPECT_TRUE(parse({"--rawlog", "a", "--out", "b", "--config", text.path}, &o, &error)) << error;
+  EXPECT_EQ(o.params.slam.particles, 5);
+}
+
 // Names and values are the file's bytes: the error shows them as printable text, on one line.
 TEST(OfflineArgs, ConfigFileErrorsArePrintable) {
   const TempFile unknown("par\x1b[2J\xffticles: 3\n");

@@ -388,6 +388,50 @@ TEST_F(OfflineE2E, BadRangesAreSkippedAndCounted) {
   checkOutputs(out, kFixtureScans);
 }
 
+// A start pose beyond max_map_extent is refused where it enters, with one line and exit 2 (once an
+// uncaught std::length_error from the scan matcher: exit 3 "unexpected failure").
+TEST_F(OfflineE2E, AStartPoseBeyondTheMapExtentIsOneLine) {
+  const fs::path out = scratch_ / "out";
+  for (const char* pose : {"1e9,0,0", "0,1e12,0", "1001,0,0"}) {
+    const Result r = runOffline(
+        concat({"--rawlog", dataPath("sim.rawlog"), "--out", out.string(), "--initial-pose", pose},
+               kFast),
+        scratch_);
+    EXPECT_EQ(r.exit_code, 2) << pose << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("max_map_extent (1000 m)"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// A log whose every range is unusable makes no map: one line (no MRPT exception with its call
+// stack from writing an empty image) and no output folder left behind, neither a new --out
+// directory nor a layers/ in an existing one.
+TEST_F(OfflineE2E, NoUsableRangeIsOneLineAndLeavesNoFolder) {
+  const fs::path log = scratch_ / "all_unusable.rawlog";
+  std::string error;
+  ASSERT_TRUE(test::makeVariant(dataPath("sim_obs.rawlog"), log.string(),
+                                test::Variant::kAllUnusable, &error))
+      << error;
+  const fs::path out = scratch_ / "out";
+  Result r = runOffline(concat({"--rawlog", log.string(), "--out", out.string()}, kFast), scratch_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const size_t at = r.err.find("error: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_EQ(lineCount(r.err.substr(at)), 1) << r.err;
+  EXPECT_NE(r.err.find("had a usable range"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "a failed run left " << out;
+
+  const fs::path existing = scratch_ / "existing";
+  fs::create_directories(existing);
+  test::writeText(existing / "keep.txt", "mine");
+  r = runOffline(concat({"--rawlog", log.string(), "--out", existing.string()}, kFast), scratch_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(fs::exists(existing / "keep.txt"));
+  EXPECT_FALSE(fs::exists(existing / "layers"));
+  EXPECT_FALSE(fs::exists(existing / "map.evmap"));
+}
+
 TEST_F(OfflineE2E, RejectedScansAreCountedAndWarnedAboutSparingly) {
   const fs::path log = scratch_ / "unusable.rawlog";
   std::string error;

@@ -182,6 +182,7 @@ bool makeVariant(const std::string& in, const std::string& out, Variant variant,
     if (variant == Variant::kNoLaser) return false;
     if (variant == Variant::kBadRanges) spoilRanges(scan);
     if (variant == Variant::kUnusableScans && ++scans % 10 == 0) blankRanges(scan);
+    if (variant == Variant::kAllUnusable) blankRanges(scan);
     return true;
   };
   for (size_t i = 0; i < rawlog.size(); ++i) {

@@ -36,6 +36,7 @@ enum class Variant {
   kNoLaser,        // scans removed
   kNoOdometry,     // odometry removed (empty action collections / no CObservationOdometry)
   kUnusableScans,  // every 10th scan (the 10th, 20th, ...) has only NaN ranges
+  kAllUnusable,    // every scan has only NaN ranges
 };
 // Copies `in` to `out` with the change of `variant`; works on both formats.
 bool makeVariant(const std::string& in, const std::string& out, Variant variant,

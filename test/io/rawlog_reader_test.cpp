@@ -15,6 +15,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "evidential_slam/core/parameters.h"
 #include "evidential_slam/io/ground_truth.h"
 #include "rawlog_fixtures.h"
 #include "test_util.h"
@@ -237,8 +238,10 @@ class SyntheticLog {
     o.odometry = mrpt::poses::CPose2D(x, y, phi);
     archive_ << o;
   }
-  void scan(double t, const mrpt::poses::CPose3D& sensor = {}, bool right_to_left = true) {
+  void scan(double t, const mrpt::poses::CPose3D& sensor = {}, bool right_to_left = true,
+            float std_error = 0.01f) {
     mrpt::obs::CObservation2DRangeScan s;
+    s.stdError = std_error;
     s.timestamp = mrpt::Clock::fromDouble(t);
     s.sensorLabel = "LIDAR";
     s.aperture = static_cast<float>(M_PI);
@@ -327,6 +330,82 @@ TEST(RawlogReader, OutOfOrderStampsAreSkipped) {
   const auto warnings = reader.warnings();
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("time went backwards"), std::string::npos) << warnings[0];
+}
+
+// One scan and one odometry sample stamped 3 h ahead (a driver's glitch): each is an outlier,
+// skipped once, and the rest of the log is read (the reader once kept the future stamp and skipped
+// every later scan as out of order). Three in a row are believed, as the session believes them.
+TEST(RawlogReader, AFarFutureStampIsAnOutlierAndTheLogGoesOn) {
+  const auto path = (scratchDir() / "future.rawlog").string();
+  {
+    SyntheticLog log(path);
+    for (int i = 0; i < 10; ++i) {
+      const double t = 10.0 + i;
+      log.odometry(i == 4 ? t + 10800.0 : t, 0.1 * i, 0, 0);
+      log.scan(i == 6 ? t + 10800.0 : t);
+    }
+  }
+  RawlogReader reader;
+  std::string error;
+  ASSERT_TRUE(reader.open(path, &error)) << error;
+  std::vector<RawlogScan> scans;
+  RawlogScan s;
+  while (reader.next(&s) == RawlogReader::Status::kScan) scans.push_back(s);
+  EXPECT_EQ(scans.size(), 9u);
+  EXPECT_EQ(reader.counts().scan_stamp_outliers, 1u);
+  EXPECT_EQ(reader.counts().odometry_stamp_outliers, 1u);
+  EXPECT_EQ(reader.counts().scans_out_of_order, 0u);
+  ASSERT_FALSE(scans.empty());
+  EXPECT_NEAR(scans.back().scan.stamp, 19.0, 1e-6);
+  EXPECT_NEAR(scans.back().odometry.x, 0.9, 1e-6);
+  for (size_t i = 0; i < scans.size(); ++i) EXPECT_LT(scans[i].scan.stamp, 20.0);
+  const auto warnings = reader.warnings();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("outliers"), std::string::npos) << warnings[0];
+
+  // The same jump for time_jump_scans stamps in a row: time moved on.
+  const auto jumped = (scratchDir() / "jumped.rawlog").string();
+  {
+    SyntheticLog log(jumped);
+    for (int i = 0; i < 8; ++i) {
+      const double t = 10.0 + i + (i >= 4 ? 10800.0 : 0.0);
+      log.odometry(t, 0.1 * i, 0, 0);
+      log.scan(t);
+    }
+  }
+  RawlogReader later;
+  ASSERT_TRUE(later.open(jumped, &error)) << error;
+  scans.clear();
+  while (later.next(&s) == RawlogReader::Status::kScan) scans.push_back(s);
+  EXPECT_EQ(later.counts().scan_stamp_outliers, 2u);  // StampPolicy::scans - 1
+  ASSERT_EQ(scans.size(), 6u);
+  EXPECT_NEAR(scans.back().scan.stamp, 10817.0, 1e-6);
+}
+
+// A scan's declared range noise is clamped to the largest laser_range_sigma, as the node's is:
+// 1e30 m once hung the beam model.
+TEST(RawlogReader, DeclaredRangeNoiseIsClampedAsTheNodes) {
+  const auto path = (scratchDir() / "noise.rawlog").string();
+  {
+    SyntheticLog log(path);
+    for (int i = 0; i < 3; ++i) {
+      log.odometry(10.0 + i, 0.1 * i, 0, 0);
+      log.scan(10.0 + i, {}, true, i == 1 ? 1e30f : 0.01f);
+    }
+  }
+  RawlogReader reader;
+  std::string error;
+  ASSERT_TRUE(reader.open(path, &error)) << error;
+  std::vector<RawlogScan> scans;
+  RawlogScan s;
+  while (reader.next(&s) == RawlogReader::Status::kScan) scans.push_back(s);
+  ASSERT_EQ(scans.size(), 3u);
+  EXPECT_FLOAT_EQ(scans[0].scan.range_sigma, 0.01f);
+  EXPECT_FLOAT_EQ(scans[1].scan.range_sigma, static_cast<float>(maxDeclaredRangeSigma()));
+  EXPECT_EQ(maxDeclaredRangeSigma(), 2.0);  // laser_range_sigma's maximum in parameters.def
+  EXPECT_EQ(reader.counts().scans_noise_clamped, 1u);
+  EXPECT_EQ(clampDeclaredRangeSigma(5.0), clampDeclaredRangeSigma(1e30));
+  EXPECT_EQ(clampDeclaredRangeSigma(-1.0), 0.0f);
 }
 
 TEST(RawlogReader, SensorPoseAndScanDirection) {

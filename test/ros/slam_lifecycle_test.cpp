@@ -259,6 +259,13 @@ TEST(SlamLifecycle, LoadMapRefusesWhatIsNoMap) {
   EXPECT_EQ(r.message.find('\n'), std::string::npos) << r.message;
   r = loadMap("");
   EXPECT_FALSE(r.success);
+  // A pose beyond max_map_extent on a good map is refused where it enters (issue 49: 10^9 m
+  // killed the node with std::length_error from the scan matcher's correspondence search).
+  const Pose2 far(1e9, 0.0, 0.0);
+  r = loadMap(outputDir("to_load").string(), &far);
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.message.find("max_map_extent"), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find('\n'), std::string::npos) << r.message;
   // The SLAM carries on as before.
   drive(1);
 }

@@ -190,6 +190,47 @@ TEST(MappingSession, LimitsRefuseScansWithAClearMessage) {
   EXPECT_EQ(s.engine().stats().scans_received, 1u);
 }
 
+// Every pose that enters the SLAM is bounded by max_map_extent from the map frame's origin, the
+// same limit for every way in: a start map's pose (map file robot_pose, ~load_map use_pose,
+// --initial-pose), a localization start and a fresh map's first odometry. Beyond it a start is
+// refused with one line and the session keeps working; before, 10^9 m reached the scan matcher's
+// correspondence search as overflowed cell indices (std::length_error).
+TEST(MappingSession, PosesBeyondTheMapExtentAreRefusedWhereTheyEnter) {
+  Parameters p = smallConfig();
+  p.session.max_map_extent = 100.0;
+  MappingSession s(p);
+  EXPECT_EQ(s.processScan(Pose2(1e9, 0.0, 0.0), roomScan(Pose2(), 100.0)).order, Order::kRefused);
+  SessionScanResult r = s.processScan(Pose2(0.0, -1e12, 0.0), roomScan(Pose2(), 100.0));
+  EXPECT_EQ(r.order, Order::kRefused);
+  EXPECT_NE(r.message.find("farther than max_map_extent (100 m)"), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find('\n'), std::string::npos);
+  EXPECT_EQ(s.processScan(Pose2(99.0, 0.0, 0.0), roomScan(Pose2(), 100.0)).order, Order::kInOrder);
+
+  MappingSession m(p);
+  for (double t : {100.0, 101.0, 102.0}) feed(&m, t);
+  const EvidentialGridMap map = m.currentMap();
+  std::string why;
+  for (const Pose2& far : {Pose2(1e9, 0, 0), Pose2(0, 1e6, 0), Pose2(-100.5, 0, 0),
+                           Pose2(std::numeric_limits<double>::quiet_NaN(), 0, 0)}) {
+    MappingSession t(p);
+    EXPECT_FALSE(t.startFromMap(map, far, &why));
+    EXPECT_NE(why.find("the start pose"), std::string::npos) << why;
+    LocalizationStart start;
+    start.pose = far;
+    EXPECT_FALSE(t.startLocalization(map, start, &why));
+    EXPECT_NE(why.find("the start pose"), std::string::npos) << why;
+    for (double time : {100.0, 101.0}) EXPECT_EQ(feed(&t, time).order, Order::kInOrder);
+  }
+  // An anchored start: odometry far from the anchor moves the first pose beyond the extent.
+  MappingSession a(p);
+  const Pose2 anchor(0.0, 0.0, 0.0);
+  ASSERT_TRUE(a.startFromMap(map, Pose2(1.0, 0.0, 0.0), &why, &anchor)) << why;
+  r = a.processScan(Pose2(1e12, 0.0, 0.0), roomScan(Pose2(), 100.0));
+  EXPECT_EQ(r.order, Order::kRefused);
+  EXPECT_NE(r.message.find("the pose its odometry gives"), std::string::npos) << r.message;
+  EXPECT_EQ(a.processScan(Pose2(0.5, 0.0, 0.0), roomScan(Pose2(), 101.0)).order, Order::kInOrder);
+}
+
 // Ranges of 10^9 m are clipped at usable_range: the map stays the size of what the laser can
 // map, not of what it claims.
 TEST(MappingSession, HugeRangesAreClippedAtTheUsableRange) {
@@ -307,6 +348,37 @@ TEST(MapFiles, TheOctomapExportCarriesTheAnomaly) {
   EXPECT_EQ(wall->anomaly(), 2.5f);
   EXPECT_TRUE(wall->cell() == save.map.cell(1, 0));
   EXPECT_EQ(free_cell->anomaly(), 0.0f);
+}
+
+// Dense layers over an observed box of more than max_layer_cells are not written (the sparse map
+// file is), and the report says what they would need: 750 m of travel once took 400 s and
+// 1.2 GB here. A few cells 1 km apart make a 20,001-cell-wide box from a few observed tiles.
+TEST(MapFiles, DenseLayersBeyondMaxLayerCellsAreNotWritten) {
+  MapSave save;
+  save.map = EvidentialGridMap(0.05);
+  save.map.mutableCell(0, 0) = Cell::fromStored(0.0f, 0.75f, 0.0f);
+  save.map.mutableCell(20000, 3) = Cell::fromStored(0.5f, 0.25f, 0.5f);
+  SessionConfig config;  // max_layer_cells 2^23: 20001 x 4 cells fit
+  const fs::path dir = test::scratchDir();
+  MapFilesReport report;
+  std::string error;
+  ASSERT_TRUE(writeMapFiles((dir / "fits").string(), save, config, &report, &error)) << error;
+  EXPECT_TRUE(report.layers_skipped.empty()) << report.layers_skipped;
+  EXPECT_TRUE(fs::exists(dir / "fits/layers/occupied.npy"));
+
+  save.map.mutableCell(0, 999) = Cell::fromStored(0.0f, 0.75f, 0.0f);  // 20001 x 1000 cells
+  ASSERT_TRUE(writeMapFiles((dir / "big").string(), save, config, &report, &error)) << error;
+  EXPECT_NE(report.layers_skipped.find("20001 x 1000 cells"), std::string::npos)
+      << report.layers_skipped;
+  EXPECT_NE(report.layers_skipped.find("max_layer_cells (8388608)"), std::string::npos);
+  EXPECT_EQ(report.layers_skipped.find('\n'), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "big/layers"));
+  EXPECT_TRUE(fs::exists(dir / "big/map.evmap"));
+  EXPECT_EQ(report.map_width, 0);
+
+  config.max_layer_cells = 0;  // no limit
+  std::string why;
+  EXPECT_TRUE(denseLayersFit(save.map, config, &why));
 }
 
 }  // namespace

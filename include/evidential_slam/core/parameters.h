@@ -67,6 +67,13 @@ std::vector<ParameterSpec> sharedParameterSpecs();
 // by both front ends may hold them, and the offline runner passes over them.
 bool isNodeParameter(const std::string& name);
 
+// The one bound on a laser's declared range noise (the beam models' work grows with it): the
+// table's largest laser_range_sigma, in m. The node's laser_range_sigma is range-checked to it and
+// a rawlog's declared noise (stdError) is clamped to it, both through clampDeclaredRangeSigma
+// (not finite or not positive: 0, unknown).
+double maxDeclaredRangeSigma();
+float clampDeclaredRangeSigma(double sigma);
+
 // Parses `text` into `field` and checks it against `spec`'s range. False with a one-line `why`
 // (naming the parameter) for a value of the wrong type or out of range; the field is unchanged
 // then. Numbers: whole-string decimal; switches: true/false/1/0.

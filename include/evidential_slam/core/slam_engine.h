@@ -76,6 +76,8 @@ class SlamEngine {
   // empty map. The particles are not touched.
   void clearStartMap() { start_.reset(); }
   bool hasStartMap() const { return start_ != nullptr; }
+  // Before the first processed scan: the map pose of the robot at odometry pose `odometry`.
+  Pose2 poseBeforeFirstScan(const Pose2& odometry) const;
 
   // Pauses or resumes mapping. While paused, every scan is processed as usual (motion gate,
   // proposal, scan matching, weights, resampling: the particles localize on their maps) but no
@@ -139,8 +141,6 @@ class SlamEngine {
   };
   std::unique_ptr<const MapStart> start_;
   bool mapping_paused_ = false;
-  // Before the first processed scan: the map pose of the robot at odometry pose `odometry`.
-  Pose2 poseBeforeFirstScan(const Pose2& odometry) const;
 };
 
 }  // namespace evidential_slam

@@ -18,6 +18,8 @@ std::string oneLineMessage(const std::string& what, size_t max_chars = 160);
 // `text` (a name or a line read from a file) in single quotes for a one-line message: printable
 // ASCII as is, other bytes as \xNN, cut to `max_chars` of the original ("..." marks the cut).
 std::string quotedForMessage(std::string_view text, size_t max_chars = 60);
+// A file's path for a message: quotedForMessage with room for a whole path.
+inline std::string quotedPath(std::string_view path) { return quotedForMessage(path, 400); }
 
 }  // namespace io
 }  // namespace evidential_slam

@@ -83,8 +83,9 @@ bool readMapFile(const std::string& path, EvidentialGridMap* map, MapFileInfo* i
 struct MapFileLimits {
   static constexpr uint64_t kMaxFileBytes = uint64_t{1} << 31;      // 2 GiB
   static constexpr uint32_t kMaxMetadataBytes = uint32_t{1} << 24;  // 16 MiB
-  static constexpr uint32_t kMaxTiles = uint32_t{1} << 22;          // 32 GiB of cells
-  static constexpr int32_t kMaxTileCoordinate = 1 << 20;            // |tx|, |ty|
+  static constexpr int kMaxMetadataNesting = 16;            // the writer nests 2 levels deep
+  static constexpr uint32_t kMaxTiles = uint32_t{1} << 22;  // 32 GiB of cells
+  static constexpr int32_t kMaxTileCoordinate = 1 << 20;    // |tx|, |ty|
   // The tile index spans at most max(kMinIndexTiles, kIndexTilesPerTile * tiles) tiles and never
   // more than kMaxIndexTiles (16 bytes each).
   static constexpr uint64_t kMinIndexTiles = uint64_t{1} << 16;
@@ -92,6 +93,8 @@ struct MapFileLimits {
   static constexpr uint64_t kMaxIndexTiles = uint64_t{1} << 24;
   static constexpr double kMinResolution = 1e-3;  // m
   static constexpr double kMaxResolution = 1e2;   // m
+  // |robot_pose.x|, |robot_pose.y|: the parameter table's largest max_map_extent (a test checks).
+  static constexpr double kMaxPoseCoordinate = 1e5;  // m
 };
 
 }  // namespace io

@@ -1,4 +1,4 @@
-// Minimal NumPy .npy (format 1.0) writer and reader for 2-D C-order arrays of float32 and uint8,
+// Minimal NumPy .npy writer (format 1.0) and bounded reader for arrays of float32 and uint8,
 // so every map layer can be loaded losslessly with numpy.load(). Only the header is ours; the
 // payload is the raw little-endian array.
 #pragma once
@@ -32,7 +32,20 @@ struct NpyArray {
   std::vector<uint8_t> asUint8() const;
 };
 
-// Reads a version 1.0/2.0 .npy file. False (and `error`) on a bad magic, header or size.
+// What the reader accepts: headers, dimensions and extents bounded before anything is allocated;
+// the payload must be exactly shape x itemsize (checked arithmetic) bytes, so what is allocated
+// is what the file holds, itself bounded.
+constexpr uint64_t kNpyMaxHeaderBytes = 65536;  // numpy writes < 100 for 2-D arrays
+constexpr size_t kNpyMaxDimensions = 8;
+constexpr uint64_t kNpyMaxExtent = uint64_t{1} << 24;     // per dimension
+constexpr uint64_t kNpyMaxFileBytes = uint64_t{1} << 32;  // 4 GiB
+
+// Reads the bytes of a version 1.0/2.0/3.0 .npy file of dtype float32 ('<f4') or uint8 ('|u1',
+// '<u1'); a 2-D Fortran-order array is returned in C order (fortran_order false). False and a
+// one-line `why` naming the field on a bad magic, version, header, dtype or size.
+bool parseNpy(const uint8_t* data, size_t size, NpyArray* array, std::string* why);
+
+// parseNpy on the file at `path`; the one-line `error` starts with the quoted path.
 bool readNpy(const std::string& path, NpyArray* array, std::string* error);
 
 }  // namespace io

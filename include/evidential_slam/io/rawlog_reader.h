@@ -12,6 +12,7 @@
 
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/pose2.h"
+#include "evidential_slam/core/stamp_order.h"
 
 namespace evidential_slam {
 namespace io {
@@ -46,6 +47,9 @@ struct RawlogReaderConfig {
   // beacons; 3-D odometry; non-Gaussian motion PDFs) are left to MRPT's own reading when true,
   // which allocates whatever their length fields ask; when false they stop reading (kError).
   bool allow_unchecked_classes = false;
+  // The order of the scans' and the odometry's stamps, each on its own: the session's policy
+  // (stampPolicy(SessionConfig) in session/session.h; core/stamp_order.h).
+  StampPolicy stamps;
 };
 
 // One scan of the log with the odometry at its stamp.
@@ -68,7 +72,13 @@ struct RawlogCounts {
   // sample, older than the one before it, is skipped so the path never goes back in time.
   uint64_t scans_out_of_order = 0;
   uint64_t odometry_out_of_order = 0;
+  // A stamp that jumped far back or ahead of the ones before it, alone (fewer than
+  // StampPolicy::scans in a row): skipped, and the stream goes on.
+  uint64_t scan_stamp_outliers = 0;
+  uint64_t odometry_stamp_outliers = 0;
   uint64_t other_observations = 0;  // observations of other classes or labels, ignored
+  // Scans whose declared range noise exceeded maxDeclaredRangeSigma() (core/parameters.h): clamped.
+  uint64_t scans_noise_clamped = 0;
   // Entries holding a class whose layout the reader does not check, read by MRPT alone
   // (allow_unchecked_classes).
   uint64_t unchecked_entries = 0;

@@ -29,6 +29,7 @@
 #include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/LoadMap.h"
 #include "evidential_slam/SaveMap.h"
+#include "evidential_slam/core/stamp_order.h"
 #include "evidential_slam/ros/map_publisher.h"
 #include "evidential_slam/ros/params.h"
 #include "evidential_slam/ros/slam_worker.h"
@@ -61,6 +62,8 @@ class SlamNodelet : public nodelet::Nodelet {
   bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
   bool getMap(nav_msgs::GetMap::Request& request, nav_msgs::GetMap::Response& response);
   bool loadMap(LoadMap::Request& request, LoadMap::Response& response);
+  // Empties the tf buffer (a reset, a loaded map, a jump of the stamps) and forgets the stamps.
+  void clearTransforms();
   bool pauseMapping(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
   bool resetSlam(std_srvs::Empty::Request& request, std_srvs::Empty::Response& response);
   bool globalLocalization(std_srvs::Empty::Request& request, std_srvs::Empty::Response& response);
@@ -130,6 +133,7 @@ class SlamNodelet : public nodelet::Nodelet {
   // ROS time of the last scan's arrival: when it goes back (the /clock of a looping bag) the SLAM
   // starts over at once (watchdog_mutex_).
   ros::Time last_arrival_ros_time_;
+  StampOrder scan_stamps_;  // the raw scans' stamps (onRawScan), under watchdog_mutex_
 
   std::unique_ptr<SlamWorker> worker_;
   std::unique_ptr<MapPublisher> map_publisher_;

@@ -5,7 +5,8 @@
 //                    parameter's value; what --load-map, map_file and ~load_map read back
 //   trajectory.tum   the best particle's path, one pose per scan (TUM: t x y z qx qy qz qw)
 //   conflict.csv     per processed scan, the conflict it added and the alarm's verdict
-//   layers/          every layer as <name>.png + <name>.npy (writeLayers) and as a map_server pair
+//   layers/          (when the observed box fits max_layer_cells) every layer as <name>.png +
+//   <name>.npy (writeLayers) and as a map_server pair
 //                    <name>.pgm + <name>.yaml (writeMapServerLayers), with composite.png,
 //                    observed.npy and map.yaml (map_server metadata of pignistic.png)
 //   octomap/         map.evidential.ot, map.bt, map.color.ot, when export_octomap is set
@@ -41,8 +42,10 @@ struct MapFilesReport {
   std::vector<std::string> files;  // every file written, full paths
   std::string map_file;            // the lossless map file among them
   io::MapFileStats map_file_stats;
-  int map_width = 0;               // cells of the layer rasters
+  int map_width = 0;  // cells of the layer rasters
   int map_height = 0;
+  // Why layers/ was not written (the observed box exceeds max_layer_cells); empty when it was.
+  std::string layers_skipped;
   double external_conflict_scale = 0.0;  // EC drawn black in layers/external_conflict.png
   std::optional<OctomapFilesReport> octomap;
 };
@@ -82,5 +85,24 @@ struct LoadedMap {
 // Reads `path` (a file, or a directory holding map.evmap). False with a one-line `error` naming
 // the file.
 bool loadMapFile(const std::string& path, LoadedMap* out, std::string* error);
+
+// Whether dense layers over `map`'s observed box fit max_layer_cells (always when it is 0). False
+// and a one-line `why` with the size they would need otherwise.
+bool denseLayersFit(const EvidentialGridMap& map, const SessionConfig& config, std::string* why);
+bool denseLayersFit(const CellBox& box, double resolution, const SessionConfig& config,
+                    std::string* why);
+
+// The folders a command writes into (its output directory, and layers/ and octomap/ in it) as
+// they were before it ran: a failed command calls removeCreated(), which removes those it made,
+// so no half-written folder is left behind (the files themselves are staged by AtomicFiles).
+class OutputFolders {
+ public:
+  explicit OutputFolders(const std::string& dir);
+  void removeCreated() const;
+
+ private:
+  std::string dir_;
+  bool dir_existed_ = true, layers_existed_ = true, octomap_existed_ = true;
+};
 
 }  // namespace evidential_slam

@@ -22,6 +22,7 @@
 #include "evidential_slam/core/localization/localizer.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/slam_engine.h"
+#include "evidential_slam/core/stamp_order.h"
 
 namespace evidential_slam {
 
@@ -66,6 +67,16 @@ struct LocalizationStart {
   Pose2 pose;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 };
+
+// The one bound on poses that enter the SLAM (a start map's pose, --initial-pose, ~load_map's
+// use_pose, /initialpose, a fresh map's first odometry): finite and within max_map_extent of the
+// map frame's origin, so every cell index the SLAM computes stays far inside int and the work done
+// over the map's extent stays bounded. False and a one-line `why` starting with `what`.
+// The session's time_jump_* as the stamp policy the rawlog reader applies too.
+StampPolicy stampPolicy(const SessionConfig& c);
+
+bool poseWithinMapExtent(const Pose2& pose, double max_map_extent, const std::string& what,
+                         std::string* why);
 
 class MappingSession {
  public:
@@ -147,8 +158,7 @@ class MappingSession {
   std::vector<ConflictRecord> conflict_log_;
   bool have_last_stamp_ = false;
   double last_stamp_ = 0.0;
-  int jumps_in_a_row_ = 0;  // consecutive outlier stamps, all back or all ahead
-  bool jump_back_ = false;  // their direction
+  StampOrder order_;  // the stamps' order (time_jump_*)
   bool have_origin_ = false;
   Pose2 origin_;  // the odometry pose of the first scan used (max_map_extent is from here)
   std::string reset_save_root_;

@@ -8,6 +8,8 @@
 #include <limits>
 #include <vector>
 
+#include "evidential_slam/io/error_text.h"
+#include "evidential_slam/io/layer_yaml.h"
 #include "evidential_slam/io/npy.h"
 
 namespace evidential_slam {
@@ -71,31 +73,6 @@ bool LayerComparison::identical(double tolerance) const {
                      [&](double d) { return d <= tolerance; });
 }
 
-namespace {
-
-// resolution and origin from the map.yaml the layer writer produces.
-bool readMapYaml(const std::string& path, double* resolution, double* origin_x, double* origin_y,
-                 std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = "cannot read '" + path + "'";
-    return false;
-  }
-  bool has_res = false, has_origin = false;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (std::sscanf(line.c_str(), "resolution: %lf", resolution) == 1) has_res = true;
-    if (std::sscanf(line.c_str(), "origin: [%lf, %lf", origin_x, origin_y) == 2) has_origin = true;
-  }
-  if (!has_res || !has_origin || !(*resolution > 0.0)) {
-    *error = "'" + path + "' lacks a resolution or origin";
-    return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 bool compareWithLayers(const EvidentialOcTree& tree, const OctreeStats& stats,
                        const std::string& layers_dir, LayerComparison* comparison,
                        std::string* error) {
@@ -106,35 +83,44 @@ bool compareWithLayers(const EvidentialOcTree& tree, const OctreeStats& stats,
     return false;
   };
   double res = 0.0, origin_x = 0.0, origin_y = 0.0;
-  if (!readMapYaml(layers_dir + "/map.yaml", &res, &origin_x, &origin_y, &why)) return fail(why);
+  if (!readLayerMapYaml(layers_dir + "/map.yaml", &res, &origin_x, &origin_y, &why)) {
+    return fail(why);
+  }
   if (std::abs(res - tree.getResolution()) > 1e-9 * res) {
     return fail("the layers' resolution differs from the tree's");
   }
   const Layer kMasses[4] = {Layer::kOccupied, Layer::kFree, Layer::kUnknown, Layer::kConflict};
   std::vector<std::vector<float>> masses;
   size_t rows = 0, cols = 0;
+  // Every layer must have the shape of the first (readNpy bounds the shape by the file's size).
+  auto readLayer = [&](const std::string& name, bool float32, NpyArray* a) {
+    const std::string path = layers_dir + "/" + name + ".npy";
+    if (!readNpy(path, a, &why)) return fail(why);
+    if (a->shape.size() != 2) return fail(quotedPath(path) + ": 'shape' is not 2-D");
+    if (masses.empty() && float32) {
+      rows = a->shape[0];
+      cols = a->shape[1];
+    } else if (a->shape[0] != rows || a->shape[1] != cols) {
+      return fail(quotedPath(path) + ": 'shape' differs from the other layers'");
+    }
+    if ((float32 ? a->asFloat32().size() : a->asUint8().size()) != rows * cols) {
+      return fail(quotedPath(path) + ": 'descr' is not " + (float32 ? "float32" : "uint8"));
+    }
+    return true;
+  };
   for (Layer l : kMasses) {
     NpyArray a;
-    if (!readNpy(layers_dir + "/" + layerName(l) + ".npy", &a, &why)) return fail(why);
-    if (a.shape.size() != 2) return fail(layerName(l) + ".npy is not 2-D");
-    rows = a.shape[0];
-    cols = a.shape[1];
+    if (!readLayer(layerName(l), true, &a)) return false;
     masses.push_back(a.asFloat32());
-    if (masses.back().size() != rows * cols) return fail(layerName(l) + ".npy is not float32");
   }
   NpyArray observed_npy;
-  if (!readNpy(layers_dir + "/observed.npy", &observed_npy, &why)) return fail(why);
+  if (!readLayer("observed", false, &observed_npy)) return false;
   const std::vector<uint8_t> observed = observed_npy.asUint8();
-  if (observed.size() != rows * cols) return fail("observed.npy does not match the layers");
   std::vector<float> anomaly;
   if (tree.layout() != EvidentialLayout::kMasses) {
     NpyArray a;
-    if (!readNpy(layers_dir + "/" + layerName(Layer::kAnomaly) + ".npy", &a, &why))
-      return fail(why);
+    if (!readLayer(layerName(Layer::kAnomaly), true, &a)) return false;
     anomaly = a.asFloat32();
-    if (a.shape.size() != 2 || anomaly.size() != rows * cols) {
-      return fail(layerName(Layer::kAnomaly) + ".npy does not match the layers");
-    }
     comparison->anomaly_compared = true;
   }
 
