@@ -42,7 +42,7 @@ std::vector<ParameterSpec> sharedParameterSpecs() {
   return specs;
 }
 
-#define ES_NODE_PARAMETER_MAX(ctx, name, member, type, def, min, max, unit, scope, meaning) \
+#define ES_NODE_PARAMETER_MAX(ctx, name, member, type, def, min, max, unit, scope, tier, meaning) \
   if (std::string(#name) == (ctx)) return static_cast<double>(max);
 double maxDeclaredRangeSigma() {
   static const double limit = []() -> double {

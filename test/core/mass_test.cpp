@@ -530,7 +530,9 @@ TEST(BoundedConfidenceTest, ConfidentCellsFlipAfterTheirScans) {
     }
     EXPECT_EQ(hits, scansToFlip(floor, hit.occupied, 100));
     EXPECT_GE(hits, n);
-    if (n >= 2) EXPECT_GT(hits, n);  // hits are weaker than passes
+    if (n >= 2) {
+      EXPECT_GT(hits, n);  // hits are weaker than passes
+    }
   }
 }
 
@@ -560,7 +562,9 @@ TEST(BoundedConfidenceTest, FloorHoldsOnRandomUpdates) {
       const float lambda_before = bounded.lambda();
       const float k = updateCell(bounded, s, nullptr, floor_steps);
       ASSERT_GE(bounded.unknownSteps(), floor_steps);
-      if (k == 0.0f) ASSERT_EQ(bounded.lambda(), lambda_before);
+      if (k == 0.0f) {
+        ASSERT_EQ(bounded.lambda(), lambda_before);
+      }
       updateCell(unbounded, s);
       updateCell(zero, s, nullptr, 0);
       ASSERT_EQ(zero, unbounded);
