@@ -66,9 +66,11 @@ struct Robot {
   std::vector<std::string> warnings;
   std::vector<double> pose_stamps;
 
-  // Publishes the clock, the odometry tf and a room scan at `t` (robot at x = 0.1 t, 0, 0).
+  // Publishes the clock, the odometry tf and a room scan at `t` (robot at x = 0.1 t, 0, 0); the
+  // tf and the scan are stamped `t + stamp_offset` (a driver whose clock is off).
   void step(double t, const std::string& laser_frame = "laser",
-            const std::function<void(sensor_msgs::LaserScan*)>& spoil = {}) {
+            const std::function<void(sensor_msgs::LaserScan*)>& spoil = {},
+            double stamp_offset = 0.0) {
     rosgraph_msgs::Clock c;
     c.clock = ros::Time(t);
     clock.publish(c);
@@ -77,12 +79,12 @@ struct Robot {
     static_tf.sendTransform(mount);
     const Pose2 odom(0.1 * (t - 100.0), 0.0, 0.0);
     geometry_msgs::TransformStamped ts;
-    ts.header.stamp = ros::Time(t);
+    ts.header.stamp = ros::Time(t + stamp_offset);
     ts.header.frame_id = "odom";
     ts.child_frame_id = "base_link";
     ts.transform = ros_adapter::toTransformMsg(odom);
     tf.sendTransform(ts);
-    LaserScan core = testing_room::roomScan(odom, t);
+    LaserScan core = testing_room::roomScan(odom, t + stamp_offset);
     core.bearings.pop_back();  // a LaserScan's rays are evenly spaced over [-pi, pi)
     core.ranges.pop_back();
     core.valid.pop_back();

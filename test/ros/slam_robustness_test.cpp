@@ -145,6 +145,23 @@ TEST(SlamRobustness, ALateTransformOfTheLastLoopDoesNotBlockTheNext) {
   EXPECT_TRUE(robot->poseAt(104.0, 10.0, poses_before));
 }
 
+// A driver stamps 0.25 s of tf and scans 3 h ahead, then normal stamps again while ROS time goes
+// on as before: tf2's buffer holds the future and would refuse every later transform as too old
+// (TF_OLD_DATA) until the clock caught up. The node clears it once the stamps have jumped back for
+// time_jump_scans scans in a row, says so, and maps the normal scans again.
+TEST(SlamRobustness, ABurstOfFutureStampsIsRecoveredFrom) {
+  const size_t poses_first = robot->posesReceived();
+  robot->step(105.0);
+  ASSERT_TRUE(robot->poseAt(105.0, 10.0, poses_first));
+  for (int i = 1; i <= 5; ++i) robot->step(105.0 + 0.05 * i, "laser", {}, 3.0 * 3600.0);
+  const size_t poses_before = robot->posesReceived();
+  for (int i = 1; i <= 9; ++i) robot->step(106.0 + i);
+  EXPECT_TRUE(robot->warned("the transform buffer is cleared", 15.0));
+  // The session drops the first normal stamps as outliers, then starts over on them.
+  EXPECT_TRUE(robot->poseAt(114.0, 15.0, poses_before));
+  EXPECT_TRUE(robot->poseAt(115.0, 15.0, poses_before));
+}
+
 TEST(SlamRobustness, SaveMapReportsUnwritableDirectories) {
   ASSERT_TRUE(ros::service::waitForService("/evidential_slam/save_map", 10000));
   SaveMap save;
