@@ -368,6 +368,25 @@ TEST_F(OfflineE2E, LogWithoutOdometry) {
   }
 }
 
+// Odometry that is there but unusable (NaN) is reported as such, naming the reading, in one line,
+// not as missing.
+TEST_F(OfflineE2E, LogWithUnusableOdometry) {
+  for (const char* fixture : {"sim.rawlog", "sim_obs.rawlog"}) {
+    const fs::path log = scratch_ / "nan_odometry.rawlog";
+    std::string error;
+    ASSERT_TRUE(
+        test::makeVariant(dataPath(fixture), log.string(), test::Variant::kNanOdometry, &error))
+        << error;
+    const Result r =
+        runOffline({"--rawlog", log.string(), "--out", (scratch_ / "out").string()}, scratch_);
+    EXPECT_EQ(r.exit_code, 2) << fixture;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.find("no odometry"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("an odometry"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(nan, 0, 0)"), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(OfflineE2E, BadRangesAreSkippedAndCounted) {
   const fs::path log = scratch_ / "bad_ranges.rawlog";
   std::string error;

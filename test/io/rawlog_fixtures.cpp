@@ -190,6 +190,20 @@ bool makeVariant(const std::string& in, const std::string& out, Variant variant,
       case CRawlog::etActionCollection:
         if (variant == Variant::kNoOdometry) {
           writer.write(CActionCollection());
+        } else if (variant == Variant::kNanOdometry) {
+          CActionCollection spoiled;
+          for (const auto& action : *rawlog.getAsAction(i)) {
+            const auto* move = dynamic_cast<const CActionRobotMovement2D*>(action.get());
+            if (move == nullptr) {
+              spoiled.insert(*action);
+              continue;
+            }
+            CActionRobotMovement2D nan_move(*move);
+            nan_move.estimationMethod = CActionRobotMovement2D::emOdometry;
+            nan_move.rawOdometryIncrementReading.x(std::numeric_limits<double>::quiet_NaN());
+            spoiled.insert(nan_move);
+          }
+          writer.write(spoiled);
         } else {
           writer.write(*rawlog.getAsAction(i));
         }
@@ -208,7 +222,12 @@ bool makeVariant(const std::string& in, const std::string& out, Variant variant,
         auto o = rawlog.getAsObservation(i);
         auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
         if (scan && !edit(*scan)) break;
-        if (std::dynamic_pointer_cast<CObservationOdometry>(o) && variant == Variant::kNoOdometry) {
+        auto odometry = std::dynamic_pointer_cast<CObservationOdometry>(o);
+        if (odometry && variant == Variant::kNoOdometry) break;
+        if (odometry && variant == Variant::kNanOdometry) {
+          CObservationOdometry nan_reading(*odometry);
+          nan_reading.odometry.x(std::numeric_limits<double>::quiet_NaN());
+          writer.write(nan_reading);
           break;
         }
         writer.write(*o);

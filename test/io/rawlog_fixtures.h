@@ -35,6 +35,7 @@ enum class Variant {
   kBadRanges,      // NaN, +inf and negative ranges in every scan (3 rays each)
   kNoLaser,        // scans removed
   kNoOdometry,     // odometry removed (empty action collections / no CObservationOdometry)
+  kNanOdometry,    // every odometry reading (increment or pose) has a NaN x
   kUnusableScans,  // every 10th scan (the 10th, 20th, ...) has only NaN ranges
   kAllUnusable,    // every scan has only NaN ranges
 };
