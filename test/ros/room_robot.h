@@ -130,5 +130,22 @@ struct Robot {
   }
 };
 
+// The main() of a rostest whose tests drive a Robot: starts GoogleTest and ROS as `node_name`,
+// hands the Robot to the tests through `*robot`, lets the SLAM subscribe, runs the tests.
+inline int runRobotTests(int argc, char** argv, const char* node_name, Robot** robot) {
+  ::testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, node_name);
+  ros::NodeHandle nh;
+  Robot the_robot(nh);
+  *robot = &the_robot;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  the_robot.waitForSlam();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
+
 }  // namespace testing_ros
 }  // namespace evidential_slam

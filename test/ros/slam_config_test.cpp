@@ -85,16 +85,6 @@ TEST(SlamConfig, BadValuesAreRefused) {
 }  // namespace evidential_slam
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "slam_config_test");
-  ros::NodeHandle nh;
-  evidential_slam::testing_ros::Robot robot(nh);
-  evidential_slam::robot = &robot;
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  robot.waitForSlam();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runRobotTests(argc, argv, "slam_config_test",
+                                                     &evidential_slam::robot);
 }
