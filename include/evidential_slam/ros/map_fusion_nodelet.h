@@ -23,32 +23,10 @@
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/pose2.h"
+#include "evidential_slam/ros/map_fusion_params.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
-
-struct MapFusionParams {
-  SessionConfig session;  // occupied_thresh and free_thresh of the trinary `map`
-  ES_MAP_FUSION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
-
-  bool isValid(std::string* why) const;
-};
-
-template <typename Params, typename Visitor>
-void forEachMapFusionParameter(Params& p, Visitor&& visit) {
-  ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, p.session)
-  ES_MAP_FUSION_PARAMETERS(ES_VISIT_PARAMETER, p)
-}
-
-// Reads the node's parameters from its private handle; missing ones keep their defaults. False
-// with a one-line `why` for a value of the wrong type or out of range.
-bool readMapFusionParams(const ros::NodeHandle& private_nh, MapFusionParams* params,
-                         std::string* why);
-
-// <robot>/map_merge/init_pose_x, _y, _z, _yaw (map_merge's names) as the robot's map frame in
-// world_frame (z is read and not used: the maps are planar). False when one is missing or not a
-// number.
-bool readInitPose(const std::string& robot, Pose2* pose);
 
 class MapFusionNodelet : public nodelet::Nodelet {
  public:
@@ -59,10 +37,10 @@ class MapFusionNodelet : public nodelet::Nodelet {
   struct Robot {
     std::string name;  // its namespace, e.g. /robot1
     ros::Subscriber sub;
-    bool has_pose = false;   // known or estimated
-    Pose2 pose;              // its map frame in world_frame
-    ros::WallTime estimated_at;         // the last alignment attempt
-    fusion::AlignmentInputs estimated;  // and what it aligned
+    bool has_pose = false;                         // known or estimated
+    Pose2 pose;                                    // its map frame in world_frame
+    ros::WallTime estimated_at;                    // the last alignment attempt
+    fusion::AlignmentInputs estimated;             // and what it aligned
     std::shared_ptr<const EvidentialGridMap> map;  // latest, null before the first message
     Pose2 grid_frame;  // the grid's frame in the robot's map frame (layer origin off the grid)
     uint64_t version = 0;
