@@ -101,8 +101,11 @@ Json statsJson(const MapStats& s) {
 }
 
 Json scoreJson(const fusion::MapScore& s) {
-  return Json{{"accuracy", s.accuracy()}, {"coverage", s.coverage()}, {"known", s.known},
-              {"classified", s.classified}, {"correct", s.correct}};
+  return Json{{"accuracy", s.accuracy()},
+              {"coverage", s.coverage()},
+              {"known", s.known},
+              {"classified", s.classified},
+              {"correct", s.correct}};
 }
 
 // A map as ground truth: its observed box, each cell in its class.
@@ -136,7 +139,8 @@ bool looksLikeImage(const std::string& path) {
 std::string fuseUsage(const std::string& program) {
   std::ostringstream u;
   u << "usage: " << program
-    << " --map A --map B [--map C ...] [--pose x,y,yaw ... | --estimate]\n"
+    << " --map A --map B [--map C ...] [--pose x,y,yaw ... | --estimate\n"
+       "       | --initial-guess x,y,yaw[,sigma] ...]\n"
        "       --rule cautious|dempster|conjunctive|yager|disjunctive [--discount a ...]\n"
        "       --out DIR [options]\n"
        "Fuses evidential maps cell by cell and writes the fused map's files into DIR, as a SLAM\n"
@@ -146,7 +150,11 @@ std::string fuseUsage(const std::string& program) {
        "  --pose x,y,yaw        pose (m, m, rad) of the next map after the first in the first\n"
        "                        map's frame: one per map after the first\n"
        "  --estimate            estimate those poses instead: each map aligned on the first\n"
-       "                        (refused when no pose explains the overlap)\n"
+       "                        (refused when no pose explains the overlap, or when neither\n"
+       "                        the score nor the conflict tells the candidates apart)\n"
+       "  --initial-guess x,y,yaw[,sigma]  a guess of the next map's pose (as --pose; sigma m,\n"
+       "                        default 1): the estimate lies within 3 sigma and 30 degrees of\n"
+       "                        it; one per map after the first; implies --estimate\n"
        "                        (neither: the maps share a frame)\n"
        "  --rule NAME           combination rule: cautious (maps that may share evidence),\n"
        "                        conjunctive, dempster, yager (independent maps), disjunctive\n"
@@ -175,6 +183,7 @@ bool parseFuseArgs(const std::vector<std::string>& args, FuseOptions* o, bool* h
   };
   static const char* const kValued[] = {"--map",
                                         "--pose",
+                                        "--initial-guess",
                                         "--rule",
                                         "--discount",
                                         "--out",
@@ -220,6 +229,14 @@ bool parseFuseArgs(const std::vector<std::string>& args, FuseOptions* o, bool* h
         return bad("--pose wants x,y,yaw (m, m, rad), not '" + value + "'");
       }
       o->poses.push_back(pose);
+    } else if (flag == "--initial-guess") {
+      std::vector<double> v;
+      if (!io::parseNumberList(value, 3, 4, &v) || (v.size() == 4 && !(v[3] > 0.0))) {
+        return bad("--initial-guess wants x,y,yaw or x,y,yaw,sigma (m, m, rad, m > 0), not '" +
+                   value + "'");
+      }
+      o->guesses.push_back({Pose2(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0});
+      o->estimate = true;
     } else if (flag == "--rule") {
       if (!fusion::parseRule(value, &o->rule)) {
         return bad("--rule wants cautious, dempster, conjunctive, yager or disjunctive, not '" +
@@ -255,7 +272,8 @@ bool parseFuseArgs(const std::vector<std::string>& args, FuseOptions* o, bool* h
   }
   for (const auto& [name, text] : parameters) {
     if (!isSessionParameter(name)) {
-      return bad("--param " + name + ": not a parameter of a map's files (occupied_thresh, "
+      return bad("--param " + name +
+                 ": not a parameter of a map's files (occupied_thresh, "
                  "free_thresh, export_octomap, octomap_z_min, octomap_z_max)");
     }
     std::string why;
@@ -265,7 +283,14 @@ bool parseFuseArgs(const std::vector<std::string>& args, FuseOptions* o, bool* h
   if (o->maps.size() < 2) return bad("at least two --map are required");
   if (!o->rule_given) return bad("--rule is required");
   if (o->out_dir.empty()) return bad("--out is required");
-  if (o->estimate && !o->poses.empty()) return bad("--pose and --estimate exclude each other");
+  if (o->estimate && !o->poses.empty()) {
+    return bad(o->guesses.empty() ? "--pose and --estimate exclude each other"
+                                  : "--pose and --initial-guess exclude each other");
+  }
+  if (!o->guesses.empty() && o->guesses.size() != o->maps.size() - 1) {
+    return bad("--initial-guess: " + std::to_string(o->guesses.size()) + " given for " +
+               std::to_string(o->maps.size()) + " maps; one per map after the first");
+  }
   if (!o->poses.empty() && o->poses.size() != o->maps.size() - 1) {
     return bad("--pose: " + std::to_string(o->poses.size()) + " given for " +
                std::to_string(o->maps.size()) + " maps; one per map after the first");
@@ -340,14 +365,22 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
     for (size_t i = 1; i < n; ++i) {
       if (options.estimate) {
         fusion::AlignmentResult result;
+        fusion::AlignmentConfig align;
+        if (!options.guesses.empty()) {
+          // Run frames -> grid poses, as below the other way round.
+          const FuseOptions::Guess& guess = options.guesses[i - 1];
+          align.has_prior = true;
+          align.prior = inputs[0].offset.inverse().compose(guess.pose).compose(inputs[i].offset);
+          align.prior_sigma = guess.sigma;
+          align.prior_sigma_yaw = 10.0 * 3.14159265358979323846 / 180.0;
+        }
         std::string why;
-        if (!fusion::alignMaps(maps[0], maps[i], fusion::AlignmentConfig(), &result, &why)) {
+        if (!fusion::alignMaps(maps[0], maps[i], align, &result, &why)) {
           return failWith(kExitBadInput, "cannot align map '" + options.maps[i] + "' on '" +
                                              options.maps[0] + "': " + why);
         }
         // Grid poses -> run frames: offset_1 ∘ aligned ∘ offset_i⁻¹.
-        pose_of_run[i] =
-            inputs[0].offset.compose(result.pose).compose(inputs[i].offset.inverse());
+        pose_of_run[i] = inputs[0].offset.compose(result.pose).compose(inputs[i].offset.inverse());
         pose_source[i] = "estimated";
         alignments[i] = Json{{"structure_conflict", result.conflict},
                              {"score", result.score},
@@ -355,6 +388,8 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
                              {"overlap_cells", result.overlap_cells},
                              {"alternative_score", result.alternative_score},
                              {"alternative_pose", poseJson(result.alternative_pose)},
+                             {"decided_by_verifier", result.decided_by_verifier},
+                             {"initial_guess", !options.guesses.empty()},
                              {"yaws_searched", result.yaws_searched},
                              {"search_resolution", result.search_resolution}};
       } else if (!options.poses.empty()) {
@@ -421,8 +456,8 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
           return failWith(kExitBadInput, "ground truth: " + error);
         }
         if (truth_map.observedBox().empty()) {
-          return failWith(kExitBadInput, "ground truth '" + options.ground_truth +
-                                             "' has no observed cell");
+          return failWith(kExitBadInput,
+                          "ground truth '" + options.ground_truth + "' has no observed cell");
         }
         truth = rasterOfMap(truth_map, truth_input.offset, classify);
       }
@@ -469,8 +504,11 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
     j["mean_conflict_added"] = report.mean_conflict_added;
     j["fused"] = statsJson(mapStats(fused_map, classify));
     if (!scores.is_null()) j["scores"] = scores;
-    j["seconds"] = Json{{"read", read_s}, {"align", align_s}, {"fuse", fuse_s},
-                        {"write", write_s}, {"total", secondsSince(start)}};
+    j["seconds"] = Json{{"read", read_s},
+                        {"align", align_s},
+                        {"fuse", fuse_s},
+                        {"write", write_s},
+                        {"total", secondsSince(start)}};
     Json written = Json::array();
     for (const std::string& f : files.files) {
       written.push_back(fs::relative(f, options.out_dir).generic_string());
@@ -483,14 +521,14 @@ int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
     if (!json) return failWith(kExitBadInput, "cannot write '" + json_path + "'");
 
     if (!options.quiet) {
-      std::fprintf(out, "fused %zu maps by the %s rule: %zu cells, %zu in the overlap, "
+      std::fprintf(out,
+                   "fused %zu maps by the %s rule: %zu cells, %zu in the overlap, "
                    "mean conflict %.4f\n",
                    n, fusion::ruleName(options.rule).c_str(), report.fused_cells,
                    report.overlap_cells, report.mean_conflict);
       for (size_t i = 1; i < n; ++i) {
-        std::fprintf(out, "  map %zu at (%.3f m, %.3f m, %.4f rad), %s\n", i + 1,
-                     pose_of_run[i].x, pose_of_run[i].y, pose_of_run[i].theta,
-                     pose_source[i].c_str());
+        std::fprintf(out, "  map %zu at (%.3f m, %.3f m, %.4f rad), %s\n", i + 1, pose_of_run[i].x,
+                     pose_of_run[i].y, pose_of_run[i].theta, pose_source[i].c_str());
       }
       if (!scores.is_null()) {
         const Json& f = scores["fused"];

@@ -59,6 +59,21 @@ TEST(FuseArgsTest, ParsesTheIssuesSynopsis) {
   EXPECT_TRUE(help);
 }
 
+TEST(FuseArgsTest, AnInitialGuessImpliesEstimation) {
+  io::FuseOptions o;
+  std::string error;
+  ASSERT_TRUE(parse({"--map", "a", "--map", "b", "--map", "c", "--initial-guess", "1,-2,0.5",
+                     "--initial-guess=3,4,0,0.25", "--rule", "cautious", "--out", "o"},
+                    &o, &error))
+      << error;
+  EXPECT_TRUE(o.estimate);
+  ASSERT_EQ(o.guesses.size(), 2u);
+  EXPECT_DOUBLE_EQ(o.guesses[0].pose.y, -2.0);
+  EXPECT_DOUBLE_EQ(o.guesses[0].sigma, 1.0);
+  EXPECT_DOUBLE_EQ(o.guesses[1].pose.x, 3.0);
+  EXPECT_DOUBLE_EQ(o.guesses[1].sigma, 0.25);
+}
+
 TEST(FuseArgsTest, BadUsageGetsAOneLineError) {
   const std::vector<std::string> two = {"--map", "a", "--map", "b", "--out", "o"};
   auto with = [&](std::vector<std::string> extra) {
@@ -79,9 +94,21 @@ TEST(FuseArgsTest, BadUsageGetsAOneLineError) {
   EXPECT_NE(parseError(with({"--rule", "cautious", "--pose", "0,0,0", "--pose", "0,0,0"}))
                 .find("one per map after the first"),
             std::string::npos);
-  EXPECT_NE(parseError(with({"--rule", "cautious", "--pose", "0,0,0", "--estimate"}))
-                .find("exclude"),
+  EXPECT_NE(
+      parseError(with({"--rule", "cautious", "--pose", "0,0,0", "--estimate"})).find("exclude"),
+      std::string::npos);
+  EXPECT_EQ(parseError(with({"--rule", "cautious", "--initial-guess", "1,2"})),
+            "--initial-guess wants x,y,yaw or x,y,yaw,sigma (m, m, rad, m > 0), not '1,2'");
+  EXPECT_NE(parseError(with({"--rule", "cautious", "--initial-guess", "1,2,3,0"})).find("m > 0"),
             std::string::npos);
+  EXPECT_NE(parseError(with({"--rule", "cautious", "--initial-guess", "1,,3"})).find("not '1,,3'"),
+            std::string::npos);
+  EXPECT_NE(parseError(with({"--rule", "cautious", "--initial-guess", "0,0,0", "--initial-guess",
+                             "0,0,0"}))
+                .find("one per map after the first"),
+            std::string::npos);
+  EXPECT_EQ(parseError(with({"--rule", "cautious", "--initial-guess", "0,0,0", "--pose", "0,0,0"})),
+            "--pose and --initial-guess exclude each other");
   EXPECT_NE(parseError(with({"--rule", "cautious", "--discount", "1.5"})).find("[0, 1]"),
             std::string::npos);
   EXPECT_NE(parseError(with({"--rule", "cautious", "--discount", "0", "--discount", "0",
@@ -285,8 +312,8 @@ TEST(FuseRunTest, EstimatesThePoseOfAMapOnTheFirst) {
   const fs::path a_path = saveMap(world, dir / "a.evmap"), b_path = saveMap(b, dir / "b.evmap");
   const fs::path out = dir / "out";
   std::string err;
-  ASSERT_EQ(run(options({"--map", a_path.string(), "--map", b_path.string(), "--estimate",
-                         "--rule", "cautious", "--out", out.string()}),
+  ASSERT_EQ(run(options({"--map", a_path.string(), "--map", b_path.string(), "--estimate", "--rule",
+                         "cautious", "--out", out.string()}),
                 &err),
             io::kExitOk)
       << err;

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <charconv>
+#include <cmath>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace evidential_slam {
 namespace io {
@@ -16,6 +18,24 @@ bool parseNumber(const std::string& text, T* value) {
   const char* end = begin + text.size();
   const auto r = std::from_chars(begin, end, *value);
   return r.ec == std::errc() && r.ptr == end && !text.empty();
+}
+
+// Parses all of `text` as comma-separated finite numbers ("1.5,-2,0.3"); false on an empty
+// item, junk, a non-finite number, or a count outside [min_count, max_count].
+inline bool parseNumberList(const std::string& text, size_t min_count, size_t max_count,
+                            std::vector<double>* values) {
+  values->clear();
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = text.find(',', start);
+    double v = 0.0;
+    const std::string item = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    if (!parseNumber(item, &v) || !std::isfinite(v)) return false;
+    values->push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return values->size() >= min_count && values->size() <= max_count;
 }
 
 // One command-line argument: `--flag=value` splits into flag and value (`has_value` set);

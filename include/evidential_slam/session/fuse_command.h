@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "evidential_slam/core/fusion/combination.h"
-#include "evidential_slam/core/pose2.h"
 #include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
 namespace io {
@@ -21,6 +21,13 @@ struct FuseOptions {
   std::vector<std::string> maps;  // --map, in order; the first one's frame is the fused frame
   std::vector<Pose2> poses;       // --pose: none, or one per map after the first
   bool estimate = false;          // --estimate: poses of maps 2..N found by alignment on map 1
+  // --initial-guess x,y,yaw[,sigma]: none, or one per map after the first (as --pose; sigma in m,
+  // default 1): the estimate is searched within 3 sigma and 30° of it. Implies --estimate.
+  struct Guess {
+    Pose2 pose;
+    double sigma = 1.0;
+  };
+  std::vector<Guess> guesses;
   fusion::Rule rule = fusion::Rule::kCautious;
   bool rule_given = false;
   std::vector<double> discounts;  // --discount: none (0), one for every map, or one per map

@@ -10,6 +10,7 @@
 
 #include <unsupported/Eigen/FFT>
 
+#include "evidential_slam/core/fusion/alignment_check.h"
 #include "evidential_slam/core/scan_matcher.h"
 
 namespace evidential_slam {
@@ -489,8 +490,8 @@ std::vector<Candidate> exhaustiveSearch(const Pooled& ref, const Pooled& moving_
         }
         if (!minimum) continue;
         Candidate cand;
-        cand.pose = Pose2((ref.x0 + tx0 + i - rotated.x0) * s, (ref.y0 + ty0 + j - rotated.y0) * s,
-                          theta);
+        cand.pose =
+            Pose2((ref.x0 + tx0 + i - rotated.x0) * s, (ref.y0 + ty0 + j - rotated.y0) * s, theta);
         cand.score = score[k];
         minima.push_back(cand);
       }
@@ -603,6 +604,13 @@ bool AlignmentConfig::isValid(std::string* why) const {
   }
   if (!(distinct_distance > 0.0)) return fail("distinct_distance must be > 0");
   if (!(distinct_angle > 0.0)) return fail("distinct_angle must be > 0");
+  if (!(verify_tolerance >= 0.0)) return fail("verify_tolerance must be >= 0");
+  if (!(verify_ratio > 0.0 && verify_ratio <= 1.0)) return fail("verify_ratio must be in (0, 1]");
+  if (!(verify_min_length >= 0.0)) return fail("verify_min_length must be >= 0");
+  if (has_prior && !(std::isfinite(prior.x) && std::isfinite(prior.y) &&
+                     std::isfinite(prior.theta) && prior_sigma > 0.0 && prior_sigma_yaw > 0.0)) {
+    return fail("the initial guess must be finite with sigmas > 0");
+  }
   std::string reason;
   if (icp && !matcher.isValid(&reason)) return fail("matcher: " + reason);
   return true;
@@ -618,13 +626,18 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
   if (!config.isValid(&reason)) return fail("invalid alignment config: " + reason);
   const double res = reference.resolution();
   if (std::abs(moving.resolution() - res) > 1e-9 * res) {
-    return fail("the maps' cells differ (" + number(res) + " m and " +
-                number(moving.resolution()) + " m): alignment needs one resolution");
+    return fail("the maps' cells differ (" + number(res) + " m and " + number(moving.resolution()) +
+                " m): alignment needs one resolution");
   }
   if (reference.observedBox().empty() || moving.observedBox().empty()) {
     return fail("a map to align has no observed cell");
   }
   AlignmentResult out;
+  auto nearPrior = [&](const Pose2& p) {
+    return !config.has_prior ||
+           (std::hypot(p.x - config.prior.x, p.y - config.prior.y) <= 3.0 * config.prior_sigma &&
+            std::abs(normalizeAngle(p.theta - config.prior.theta)) <= 3.0 * config.prior_sigma_yaw);
+  };
 
   // Levels: the refinement's finest, pooled from the cells, then up to the search level, which
   // grows until the FFT grid fits max_search_cells.
@@ -669,6 +682,11 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
   std::vector<Candidate> found =
       exhaustiveSearch(ref_search, mov_source, mov_search, yaw_step, nx, ny, need,
                        static_cast<size_t>(4 * config.candidates), &out.yaws_searched);
+  if (config.has_prior) {
+    found.erase(std::remove_if(found.begin(), found.end(),
+                               [&](const Candidate& c) { return !nearPrior(c.pose); }),
+                found.end());
+  }
   std::vector<Candidate> candidates =
       bestDistinct(found, static_cast<size_t>(config.candidates), config);
   if (candidates.empty()) {
@@ -721,36 +739,101 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
     }
     if (std::isfinite(f.score)) final_candidates.push_back(f);
   }
+  if (config.has_prior) {
+    final_candidates.erase(std::remove_if(final_candidates.begin(), final_candidates.end(),
+                                          [&](const Candidate& c) { return !nearPrior(c.pose); }),
+                           final_candidates.end());
+  }
   std::sort(final_candidates.begin(), final_candidates.end(),
             [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
   if (final_candidates.empty()) {
     *result = out;
-    return fail("too little overlap after refinement");
+    return fail(config.has_prior ? "too little overlap after refinement near the initial guess"
+                                 : "too little overlap after refinement");
   }
-  const Candidate& best = final_candidates.front();
-  out.pose = Pose2(best.pose.x, best.pose.y, best.pose.theta);
-  out.conflict = best.conflict;
-  out.score = best.score;
-  out.mean_conflict = meanConflict(reference, moving, out.pose);
-  out.overlap_cells = best.overlap;
-  for (size_t i = 1; i < final_candidates.size(); ++i) {
-    if (!distinct(final_candidates[i].pose, best.pose, config)) continue;
-    out.alternative_score = final_candidates[i].score;
-    out.alternative_pose = final_candidates[i].pose;
-    break;
+  // The best and the candidates distinct from it and from each other, each verified.
+  std::vector<Candidate> distinct_set;
+  for (const Candidate& c : final_candidates) {
+    if (std::all_of(distinct_set.begin(), distinct_set.end(),
+                    [&](const Candidate& d) { return distinct(c.pose, d.pose, config); })) {
+      distinct_set.push_back(c);
+    }
   }
+  for (const Candidate& c : distinct_set) {
+    const Disagreement d = disagreement(reference, moving, c.pose, config.verify_tolerance);
+    AlignmentResult::Candidate r;
+    r.pose = c.pose;
+    r.score = c.score;
+    r.conflict = c.conflict;
+    r.disagreement = d.share();
+    r.contradicted_m = d.contradicted * res;
+    out.candidates.push_back(r);
+  }
+  const Candidate& best = distinct_set.front();
+  auto accept = [&](size_t i) {
+    const Candidate& c = distinct_set[i];
+    out.pose = Pose2(c.pose.x, c.pose.y, c.pose.theta);
+    out.conflict = c.conflict;
+    out.score = c.score;
+    out.mean_conflict = meanConflict(reference, moving, out.pose);
+    out.overlap_cells = c.overlap;
+    // The best other candidate by score.
+    out.alternative_score = -1.0;
+    for (size_t k = 0; k < distinct_set.size(); ++k) {
+      if (k == i) continue;
+      out.alternative_score = distinct_set[k].score;
+      out.alternative_pose = distinct_set[k].pose;
+      break;
+    }
+  };
+  accept(0);
   *result = out;
   if (best.conflict > config.max_conflict) {
     return fail("no pose explains the overlap: the best, " + describe(best.pose) +
                 ", has structure conflict " + number(best.conflict) + " (at most " +
                 number(config.max_conflict) + " accepted)");
   }
-  if (out.alternative_score >= 0.0 && best.score > config.ambiguity_ratio * out.alternative_score) {
-    return fail("ambiguous alignment: " + describe(best.pose) + " scores " + number(best.score) +
-                ", " + describe(out.alternative_pose) + " " + number(out.alternative_score) +
-                " (the best must score at most " + number(config.ambiguity_ratio) +
-                " times the next)");
+  // The verifier's choice: the lowest disagreement, clearly below every other candidate's.
+  const std::vector<AlignmentResult::Candidate>& v = out.candidates;
+  size_t chosen = 0;
+  for (size_t i = 1; i < v.size(); ++i) {
+    if (v[i].disagreement < v[chosen].disagreement) chosen = i;
   }
+  bool clear = true;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (i == chosen) continue;
+    clear = clear && v[chosen].disagreement <= config.verify_ratio * v[i].disagreement &&
+            v[i].contradicted_m - v[chosen].contradicted_m >= config.verify_min_length;
+  }
+  const bool verified = v.size() > 1 && clear;
+  const bool score_clear = v.size() == 1 || best.score <= config.ambiguity_ratio * v[1].score;
+  auto listing = [&]() {
+    std::string text;
+    for (const AlignmentResult::Candidate& c : v) {
+      text += (text.empty() ? "" : "; ") + describe(c.pose) + " score " + number(c.score) +
+              ", disagreement " + number(c.disagreement) + " (" + number(c.contradicted_m) +
+              " m of wall)";
+    }
+    return text;
+  };
+  if (score_clear && (!verified || chosen == 0)) return true;
+  if (verified && distinct_set[chosen].conflict <= config.max_conflict) {
+    if (score_clear) {
+      return fail(
+          "contradictory alignment: the best score and the least disagreement pick "
+          "different poses: " +
+          listing());
+    }
+    accept(chosen);
+    out.decided_by_verifier = true;
+    *result = out;
+    return true;
+  }
+  return fail("ambiguous alignment: neither the score (the best must score at most " +
+              number(config.ambiguity_ratio) + " times the next) nor the disagreement beyond " +
+              number(config.verify_tolerance) + " m (at most " + number(config.verify_ratio) +
+              " times the next, and " + number(config.verify_min_length) +
+              " m of wall less) tells the candidates apart: " + listing());
   return true;
 }
 

@@ -112,6 +112,75 @@ TEST(AlignmentTest, RefusesTooLittleOverlap) {
             "occupied evidence on the other map");
 }
 
+// Two maps of a building a half turn maps onto itself, B's frame at `truth`, each seeing most of
+// it.
+struct SymmetricPair {
+  EvidentialGridMap a, b;
+};
+SymmetricPair symmetricPair(bool furnished, const Pose2& truth) {
+  const synthetic::World world = synthetic::symmetricOffice(furnished);
+  return {synthetic::paint(world, Pose2(), {8.0, 6.0}, 11.0, kRes, 1),
+          synthetic::paint(world, truth, {12.0, 6.0}, 11.0, kRes, 2)};
+}
+
+// The score alone cannot tell the pose from its half turn (only a pillar and a cabinet differ);
+// the verifier can: at the half turn they stand in the other map's open rooms.
+TEST(AlignmentTest, ConflictVerifiesAPoseTheScoreCannotTell) {
+  const Pose2 truth(1.5, -0.8, 0.3);
+  const SymmetricPair pair = symmetricPair(true, truth);
+  AlignmentResult result;
+  std::string why;
+  ASSERT_TRUE(alignMaps(pair.a, pair.b, AlignmentConfig{}, &result, &why)) << why;
+  EXPECT_NEAR(result.pose.x, truth.x, kRes);
+  EXPECT_NEAR(result.pose.y, truth.y, kRes);
+  EXPECT_NEAR(normalizeAngle(result.pose.theta - truth.theta), 0.0, kPi / 180.0);
+  EXPECT_TRUE(result.decided_by_verifier);
+  ASSERT_GE(result.candidates.size(), 2u);
+  // The half turn is a candidate, and contradicts metres of wall the truth does not.
+  bool half_turn = false;
+  std::string listed;
+  for (const AlignmentResult::Candidate& c : result.candidates) {
+    listed += "(" + std::to_string(c.pose.x) + ", " + std::to_string(c.pose.y) + ", " +
+              std::to_string(c.pose.theta) + ") score " + std::to_string(c.score) + " share " +
+              std::to_string(c.disagreement) + " wall " + std::to_string(c.contradicted_m) + "; ";
+    if (std::abs(normalizeAngle(c.pose.theta - truth.theta - kPi)) < 0.05) {
+      half_turn = true;
+      EXPECT_GT(c.contradicted_m, 1.0);
+    }
+  }
+  EXPECT_TRUE(half_turn);
+  RecordProperty("candidates", listed);
+}
+
+// Nothing tells the pose from its half turn: refused, every candidate listed with its numbers.
+TEST(AlignmentTest, RefusesWhenNothingTellsThePoseFromItsTwin) {
+  const SymmetricPair pair = symmetricPair(false, Pose2(1.5, -0.8, 0.3));
+  AlignmentResult result;
+  std::string why;
+  EXPECT_FALSE(alignMaps(pair.a, pair.b, AlignmentConfig{}, &result, &why));
+  EXPECT_EQ(why.rfind("ambiguous alignment: neither the score", 0), 0u) << why;
+  EXPECT_NE(why.find("disagreement"), std::string::npos) << why;
+  EXPECT_GE(result.candidates.size(), 2u);
+}
+
+// An initial guess (within 3 sigma) removes the twin from the candidates.
+TEST(AlignmentTest, AnInitialGuessBreaksTheTie) {
+  const Pose2 truth(1.5, -0.8, 0.3);
+  const SymmetricPair pair = symmetricPair(false, truth);
+  AlignmentConfig config;
+  config.has_prior = true;
+  config.prior = Pose2(1.0, -0.5, 0.2);
+  AlignmentResult result;
+  std::string why;
+  ASSERT_TRUE(alignMaps(pair.a, pair.b, config, &result, &why)) << why;
+  EXPECT_NEAR(result.pose.x, truth.x, kRes);
+  EXPECT_NEAR(result.pose.y, truth.y, kRes);
+  EXPECT_NEAR(normalizeAngle(result.pose.theta - truth.theta), 0.0, kPi / 180.0);
+  config.prior_sigma = 0.0;
+  EXPECT_FALSE(alignMaps(pair.a, pair.b, config, &result, &why));
+  EXPECT_EQ(why, "invalid alignment config: the initial guess must be finite with sigmas > 0");
+}
+
 TEST(AlignmentTest, RefusesBadInput) {
   const EvidentialGridMap a = mapA(), coarse(0.1), empty(kRes);
   AlignmentResult result;

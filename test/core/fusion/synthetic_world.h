@@ -87,6 +87,28 @@ inline World corridors() {
   return w;
 }
 
+// A 20 m x 12 m floor that a half turn about its centre maps onto itself: a corridor between
+// two rows of four rooms, doors placed symmetrically. With `furnished`, a pillar and a cabinet
+// (a 1.5 m wall) in two rooms break the symmetry, as the few asymmetric things of a real
+// building do.
+inline World symmetricOffice(bool furnished) {
+  World w;
+  w.min = {0.0, 0.0};
+  w.max = {20.0, 12.0};
+  addBox(&w, 0, 0, 20, 12);
+  auto wall = [&](double x0, double y0, double x1, double y1) {
+    w.walls.push_back({{x0, y0}, {x1, y1}});
+    w.walls.push_back({{20.0 - x0, 12.0 - y0}, {20.0 - x1, 12.0 - y1}});  // its half-turn twin
+  };
+  wall(0, 5, 2, 5), wall(3, 5, 7, 5), wall(8, 5, 12, 5), wall(13, 5, 17, 5), wall(18, 5, 20, 5);
+  wall(5, 0, 5, 5), wall(10, 0, 10, 5), wall(15, 0, 15, 5);
+  if (furnished) {
+    addBox(&w, 3.0, 9.3, 3.4, 9.7);
+    w.walls.push_back({{11.5, 1.5}, {13.0, 1.5}});
+  }
+  return w;
+}
+
 // Short walls at random places and angles in a 16 m square: nothing in common with office().
 inline World clutter(uint64_t seed) {
   World w;

@@ -1,11 +1,13 @@
 // Estimates the pose of one evidential map in another's frame: an exhaustive search over yaw and
 // translation on pooled grids, refined coarse to fine and then by the project's scan matcher (ICP
 // on the moving map's occupied cells), every candidate scored by the conflict fusing the maps
-// there would create. Refuses when no pose explains the overlap.
+// there would create, the last few verified by the conflict beyond registration error
+// (alignment_check.h). Refuses when no pose explains the overlap or the evidence cannot tell.
 #pragma once
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/evidential_grid.h"
@@ -46,20 +48,45 @@ struct AlignmentConfig {
   double distinct_angle = 0.1745329252;  // rad (10°)
   bool icp = true;                       // refine with the scan matcher (ScanMatcher::refine)
   ScanMatcherConfig matcher;             // that refinement's settings
+  // Conflict as the verifier (alignment_check.h), for the final distinct candidates: the one whose
+  // disagreement share is lowest is taken when it is at most verify_ratio times the next one's and
+  // the next one contradicts at least verify_min_length m of confident wall more. It decides when
+  // the score is ambiguous, and overrules nothing: a score winner the verifier clearly rejects is
+  // refused. The tolerance is the registration error two maps of one building may have locally.
+  double verify_tolerance = 0.3;  // m
+  double verify_ratio = 0.5;
+  double verify_min_length = 1.0;  // m
+  // A prior on the moving map's pose in the reference frame (--initial-guess, map_merge's
+  // init_pose_*): candidates farther than 3 prior_sigma or turned more than 3 prior_sigma_yaw
+  // from it are not considered.
+  bool has_prior = false;
+  Pose2 prior;
+  double prior_sigma = 1.0;        // m
+  double prior_sigma_yaw = 0.175;  // rad (10°)
 
   bool isValid(std::string* why) const;
 };
 
 struct AlignmentResult {
-  Pose2 pose;                    // the moving map's pose in the reference map's frame
-  double conflict = 0.0;         // structure conflict there, on the maps' own cells
-  double score = 0.0;            // its score (ranks the poses)
-  double mean_conflict = 0.0;    // mean K over the overlap there, without the tolerance
-  size_t overlap_cells = 0;      // cells of the moving map that land on observed reference cells
+  Pose2 pose;                       // the moving map's pose in the reference map's frame
+  double conflict = 0.0;            // structure conflict there, on the maps' own cells
+  double score = 0.0;               // its score (ranks the poses)
+  double mean_conflict = 0.0;       // mean K over the overlap there, without the tolerance
+  size_t overlap_cells = 0;         // cells of the moving map that land on observed reference cells
   double alternative_score = -1.0;  // score of the best distinct pose (-1: none)
   Pose2 alternative_pose;           // and where it is
-  size_t yaws_searched = 0;      // yaws of the exhaustive search
-  double search_resolution = 0;  // m, its pooled cell
+  size_t yaws_searched = 0;         // yaws of the exhaustive search
+  double search_resolution = 0;     // m, its pooled cell
+  // The final distinct candidates, best score first, with their verification.
+  struct Candidate {
+    Pose2 pose;
+    double score = 0.0;
+    double conflict = 0.0;        // structure conflict
+    double disagreement = 0.0;    // Disagreement::share
+    double contradicted_m = 0.0;  // Disagreement::contradicted in m of confident wall
+  };
+  std::vector<Candidate> candidates;
+  bool decided_by_verifier = false;  // the score was ambiguous; the verifier chose `pose`
 };
 
 // The pose of `moving` in `reference`'s frame. False (and a one-line `why` with the numbers) when
