@@ -83,7 +83,8 @@ void MapFusionNodelet::discover() {
     }
     const std::string robot = t.name.substr(0, t.name.size() - suffix.size());
     Pose2 pose;
-    const bool has_pose = params_.known_init_poses && readInitPose(robot, &pose);
+    const bool has_init_pose = readInitPose(robot, &pose);
+    const bool has_pose = params_.known_init_poses && has_init_pose;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (robots_.count(robot) != 0) continue;
@@ -99,10 +100,14 @@ void MapFusionNodelet::discover() {
     r.name = robot;
     r.has_pose = has_pose;
     r.pose = pose;
+    r.has_prior = !params_.known_init_poses && has_init_pose;
+    r.prior = pose;
     r.sub = nh_.subscribe<EvidentialGrid>(
         t.name, 1, [this, robot](const EvidentialGrid::ConstPtr& msg) { onGrid(robot, msg); });
     NODELET_INFO("map_fusion: robot %s (map %s)%s", robot.c_str(), t.name.c_str(),
-                 has_pose ? "" : ", pose to be estimated");
+                 has_pose      ? ""
+                 : r.has_prior ? ", pose to be estimated near its init_pose_*"
+                               : ", pose to be estimated");
     std::lock_guard<std::mutex> lock(mutex_);
     robots_.emplace(robot, std::move(r));
   }
@@ -161,6 +166,8 @@ bool MapFusionNodelet::fuseOnce() {
       copy.name = r.name;
       copy.has_pose = r.has_pose;
       copy.pose = r.pose;
+      copy.has_prior = r.has_prior;
+      copy.prior = r.prior;
       copy.map = r.map;
       copy.grid_frame = r.grid_frame;
       copy.version = r.version;
@@ -189,7 +196,16 @@ bool MapFusionNodelet::fuseOnce() {
       std::string why;
       r.estimated_at = now;
       r.estimated = inputs;
-      if (fusion::alignMaps(*robots[0].map, *r.map, fusion::AlignmentConfig(), &result, &why)) {
+      fusion::AlignmentConfig align;
+      if (robots[0].has_prior && r.has_prior) {
+        // Both init poses in world_frame: r's map frame in the reference's, then grid frames.
+        align.has_prior = true;
+        align.prior = robots[0]
+                          .grid_frame.inverse()
+                          .compose(robots[0].prior.inverse().compose(r.prior))
+                          .compose(r.grid_frame);
+      }
+      if (fusion::alignMaps(*robots[0].map, *r.map, align, &result, &why)) {
         // Grid poses -> map frames: reference grid frame ∘ aligned ∘ this grid frame⁻¹.
         r.pose = robots[0].grid_frame.compose(result.pose).compose(r.grid_frame.inverse());
         r.has_pose = true;

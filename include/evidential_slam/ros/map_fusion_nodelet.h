@@ -37,8 +37,12 @@ class MapFusionNodelet : public nodelet::Nodelet {
   struct Robot {
     std::string name;  // its namespace, e.g. /robot1
     ros::Subscriber sub;
-    bool has_pose = false;                         // known or estimated
-    Pose2 pose;                                    // its map frame in world_frame
+    bool has_pose = false;  // known or estimated
+    Pose2 pose;             // its map frame in world_frame
+    // Estimating (known_init_poses false): map_merge's init_pose_* when set, a prior that bounds
+    // the search and breaks ties (AlignmentConfig::prior).
+    bool has_prior = false;
+    Pose2 prior;
     ros::WallTime estimated_at;                    // the last alignment attempt
     fusion::AlignmentInputs estimated;             // and what it aligned
     std::shared_ptr<const EvidentialGridMap> map;  // latest, null before the first message
