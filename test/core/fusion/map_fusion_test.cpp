@@ -166,6 +166,34 @@ TEST(MapFusionTest, DiscountWeakensASource) {
   EXPECT_FALSE(out.cell(9, 9).observed());
 }
 
+// A door one robot saw closed and the other open: the cautious fusion does not average it into a
+// half-occupied doorway a planner might take for either; it marks it as conflict, m(∅) several
+// times that of the walls both saw alike.
+TEST(MapFusionTest, ADoorSeenClosedAndOpenIsConflictNotAnAverage) {
+  EvidentialGridMap closed(0.05), open(0.05);
+  for (int y = 0; y < 30; ++y) {
+    for (int x = 0; x < 40; ++x) {
+      const bool wall = x == 0 || y == 0 || x == 39 || y == 29 || x == 20;
+      const bool door = x == 20 && y >= 10 && y < 20;
+      set(&closed, x, y, wall ? 0.85f : 0.0f, wall ? 0.0f : 0.8f);
+      set(&open, x, y, wall && !door ? 0.85f : 0.0f, wall && !door ? 0.0f : 0.8f);
+    }
+  }
+  EvidentialGridMap out;
+  FusionReport report;
+  ASSERT_TRUE(fuse({{&closed, Pose2()}, {&open, Pose2()}}, Rule::kCautious, &out, &report));
+  for (int y = 10; y < 20; ++y) {
+    const Mass door = out.cell(20, y).toMass();
+    // 0.85 · 0.8 of the mass is conflict; what is left splits as the two simple supports do.
+    EXPECT_NEAR(door.conflict, 0.85 * 0.8, 1e-3);
+    EXPECT_NEAR(door.occupied, 0.85 * 0.2, 1e-3);
+    EXPECT_NEAR(door.free, 0.8 * 0.15, 1e-3);
+  }
+  for (int y = 1; y < 10; ++y) EXPECT_LT(out.cell(20, y).toMass().conflict, 1e-6);
+  // Ten door cells of conflict 0.68 in the overlap of 1200 cells.
+  EXPECT_NEAR(report.mean_conflict, 10 * 0.85 * 0.8 / 1200, 1e-5);
+}
+
 TEST(MapFusionTest, RefusesDifferentResolutions) {
   const EvidentialGridMap a(0.05), b(0.1);
   EvidentialGridMap out;
