@@ -25,8 +25,8 @@ constexpr size_t kMaxEndpoints = 20000;
 // pooled grids' tolerance of one cell) and the yaw ± its step.
 constexpr int kRefineCells = 2;
 // Candidates carried past the first refinement level: the best and the alternatives the ambiguity
-// check compares it with.
-constexpr size_t kFineCandidates = 3;
+// check and the verifier compare it with (a twin and the truth, shifts by a room period).
+constexpr size_t kFineCandidates = 8;  // 3 crowded the truth out (docs/fusion.md §9)
 
 using Complex = std::complex<double>;
 
@@ -607,6 +607,7 @@ bool AlignmentConfig::isValid(std::string* why) const {
   if (!(verify_tolerance >= 0.0)) return fail("verify_tolerance must be >= 0");
   if (!(verify_ratio > 0.0 && verify_ratio <= 1.0)) return fail("verify_ratio must be in (0, 1]");
   if (!(verify_min_length >= 0.0)) return fail("verify_min_length must be >= 0");
+  if (!(verify_score_margin >= 0.0)) return fail("verify_score_margin must be >= 0");
   if (has_prior && !(std::isfinite(prior.x) && std::isfinite(prior.y) &&
                      std::isfinite(prior.theta) && prior_sigma > 0.0 && prior_sigma_yaw > 0.0)) {
     return fail("the initial guess must be finite with sigmas > 0");
@@ -767,6 +768,7 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
     r.conflict = c.conflict;
     r.disagreement = d.share();
     r.contradicted_m = d.contradicted * res;
+    r.matched_m = d.matched * res;
     out.candidates.push_back(r);
   }
   const Candidate& best = distinct_set.front();
@@ -793,48 +795,46 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
                 ", has structure conflict " + number(best.conflict) + " (at most " +
                 number(config.max_conflict) + " accepted)");
   }
-  // The verifier's choice: the lowest disagreement, clearly below every other candidate's.
+  // The score is ambiguous when candidates other than the best score within 1 / ambiguity_ratio
+  // of it (the band); the verifier then chooses among the band's candidates: the lowest
+  // disagreement, clearly below every other one's.
   const std::vector<AlignmentResult::Candidate>& v = out.candidates;
+  size_t band = 1;
+  while (band < v.size() && best.score > config.ambiguity_ratio * v[band].score) ++band;
+  if (band == 1) return true;
+  // It may prefer another candidate to the best-scored only within verify_score_margin of its
+  // score: when the search missed the true pose, the least contradicted of its wrong candidates
+  // is often one that overlaps little and fits poorly.
   size_t chosen = 0;
-  for (size_t i = 1; i < v.size(); ++i) {
-    if (v[i].disagreement < v[chosen].disagreement) chosen = i;
+  for (size_t i = 1; i < band; ++i) {
+    if (v[i].disagreement < v[chosen].disagreement &&
+        v[i].score <= (1.0 + config.verify_score_margin) * best.score) {
+      chosen = i;
+    }
   }
   bool clear = true;
-  for (size_t i = 0; i < v.size(); ++i) {
+  for (size_t i = 0; i < band; ++i) {
     if (i == chosen) continue;
     clear = clear && v[chosen].disagreement <= config.verify_ratio * v[i].disagreement &&
             v[i].contradicted_m - v[chosen].contradicted_m >= config.verify_min_length;
   }
-  const bool verified = v.size() > 1 && clear;
-  const bool score_clear = v.size() == 1 || best.score <= config.ambiguity_ratio * v[1].score;
-  auto listing = [&]() {
-    std::string text;
-    for (const AlignmentResult::Candidate& c : v) {
-      text += (text.empty() ? "" : "; ") + describe(c.pose) + " score " + number(c.score) +
-              ", disagreement " + number(c.disagreement) + " (" + number(c.contradicted_m) +
-              " m of wall)";
-    }
-    return text;
-  };
-  if (score_clear && (!verified || chosen == 0)) return true;
-  if (verified && distinct_set[chosen].conflict <= config.max_conflict) {
-    if (score_clear) {
-      return fail(
-          "contradictory alignment: the best score and the least disagreement pick "
-          "different poses: " +
-          listing());
-    }
+  if (clear && distinct_set[chosen].conflict <= config.max_conflict) {
     accept(chosen);
     out.decided_by_verifier = true;
     *result = out;
     return true;
   }
+  std::string listing;
+  for (const AlignmentResult::Candidate& c : v) {
+    listing += (listing.empty() ? "" : "; ") + describe(c.pose) + " score " + number(c.score) +
+               ", disagreement " + number(c.disagreement) + " (" + number(c.contradicted_m) +
+               " m of wall contradicted)";
+  }
   return fail("ambiguous alignment: neither the score (the best must score at most " +
               number(config.ambiguity_ratio) + " times the next) nor the disagreement beyond " +
               number(config.verify_tolerance) + " m (at most " + number(config.verify_ratio) +
-              " times the next, and " + number(config.verify_min_length) +
-              " m of wall less) tells the candidates apart: " + listing());
-  return true;
+              " times the next's, and " + number(config.verify_min_length) +
+              " m of wall less) tells the candidates apart: " + listing);
 }
 
 }  // namespace fusion

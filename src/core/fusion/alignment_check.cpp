@@ -12,7 +12,7 @@ namespace {
 // running minimum over the (2r + 1)² square; unobserved cells do not count).
 struct Raster {
   int x0 = 0, y0 = 0, w = 0, h = 0;
-  std::vector<float> occupied, deep_free;
+  std::vector<float> occupied, deep_free, near_structure;
   std::vector<uint8_t> observed;
 
   long find(const EvidentialGridMap& map, double x, double y) const {
@@ -23,18 +23,30 @@ struct Raster {
   }
 };
 
-// Running minimum of `in` along rows (step 1, `count` rows of `length`) or columns, window ±r.
-void runningMin(const std::vector<float>& in, std::vector<float>* out, int length, int count,
-                int stride, int step, int r) {
+// Running minimum (or maximum) of `in` along rows (step 1, `count` rows of `length`) or columns,
+// window ±r.
+template <typename Pick>
+void running(const std::vector<float>& in, std::vector<float>* out, int length, int count,
+             int stride, int step, int r, float start, Pick pick) {
   for (int line = 0; line < count; ++line) {
     const size_t base = static_cast<size_t>(line) * stride;
     for (int i = 0; i < length; ++i) {
-      float m = 1.0f;
+      float m = start;
       const int lo = std::max(0, i - r), hi = std::min(length - 1, i + r);
-      for (int k = lo; k <= hi; ++k) m = std::min(m, in[base + static_cast<size_t>(k) * step]);
+      for (int k = lo; k <= hi; ++k) m = pick(m, in[base + static_cast<size_t>(k) * step]);
       (*out)[base + static_cast<size_t>(i) * step] = m;
     }
   }
+}
+
+// The (2r + 1)² square's minimum (`start` 1) or maximum (`start` 0) of `in` at every cell.
+template <typename Pick>
+std::vector<float> squareFilter(const std::vector<float>& in, int w, int h, int r, float start,
+                                Pick pick) {
+  std::vector<float> rows(in.size()), out(in.size());
+  running(in, &rows, w, h, w, 1, r, start, pick);
+  running(rows, &out, h, w, 1, w, r, start, pick);
+  return out;
 }
 
 Raster rasterOf(const EvidentialGridMap& map, int r) {
@@ -78,10 +90,10 @@ Raster rasterOf(const EvidentialGridMap& map, int r) {
     }
   }
   p.occupied.swap(structure);
-  std::vector<float> rows(n);
-  runningMin(free, &rows, p.w, p.h, p.w, 1, r);
-  p.deep_free.assign(n, 0.0f);
-  runningMin(rows, &p.deep_free, p.h, p.w, 1, p.w, r);
+  auto min = [](float a, float b) { return std::min(a, b); };
+  auto max = [](float a, float b) { return std::max(a, b); };
+  p.deep_free = squareFilter(free, p.w, p.h, r, 1.0f, min);
+  p.near_structure = squareFilter(p.occupied, p.w, p.h, r, 0.0f, max);
   for (size_t k = 0; k < n; ++k) {
     if (p.observed[k] == 0) p.deep_free[k] = 0.0f;
   }
@@ -110,6 +122,8 @@ Disagreement disagreement(const EvidentialGridMap& reference, const EvidentialGr
       d.contradicted += static_cast<double>(b.occupied[m]) * a.deep_free[n] +
                         static_cast<double>(a.occupied[n]) * b.deep_free[m];
       d.occupied += static_cast<double>(b.occupied[m]) + a.occupied[n];
+      d.matched += static_cast<double>(b.occupied[m]) * a.near_structure[n] +
+                   static_cast<double>(a.occupied[n]) * b.near_structure[m];
       ++d.overlap;
     }
   }

@@ -49,13 +49,13 @@ bool mapFromLayers(const LayerRaster& raster, EvidentialGridMap* map, Pose2* off
   EvidentialGridMap out(raster.resolution);
   for (int row = 0; row < raster.height; ++row) {
     for (int col = 0; col < raster.width; ++col) {
-      const size_t i = static_cast<size_t>(row) * static_cast<size_t>(raster.width) +
-                       static_cast<size_t>(col);
+      const size_t i =
+          static_cast<size_t>(row) * static_cast<size_t>(raster.width) + static_cast<size_t>(col);
       if (raster.observed[i] == 0) continue;
       const double o = occ[i], e = fre[i], u = unk[i], bits = ec[i];
       const double sum = o + e + u;
-      if (!(o >= 0.0 && e >= 0.0 && u >= 0.0 && bits >= 0.0 && std::isfinite(sum) &&
-            sum > 0.0 && !std::isnan(bits))) {
+      if (!(o >= 0.0 && e >= 0.0 && u >= 0.0 && bits >= 0.0 && std::isfinite(sum) && sum > 0.0 &&
+            !std::isnan(bits))) {
         std::ostringstream msg;
         msg << "layer raster: cell (" << col << ", " << row << ") has masses " << o << ", " << e
             << ", " << u << " and EC " << bits << " bits: not a belief";
@@ -67,8 +67,8 @@ bool mapFromLayers(const LayerRaster& raster, EvidentialGridMap* map, Pose2* off
       b.normal.unknown = u / sum;
       b.lambda = bits * std::log(2.0);
       const int cx = x0 + col, cy = y0 + row;
-      EvidentialGridMap::Tile& tile = out.mutableTile(cx >> EvidentialGridMap::kTileBits,
-                                                      cy >> EvidentialGridMap::kTileBits);
+      EvidentialGridMap::Tile& tile =
+          out.mutableTile(cx >> EvidentialGridMap::kTileBits, cy >> EvidentialGridMap::kTileBits);
       const int k = EvidentialGridMap::cellInTile(cx, cy);
       tile.cells[static_cast<size_t>(k)] = b.toCell();
       tile.cellWritten(k);

@@ -34,7 +34,10 @@ struct AlignmentConfig {
   // rad between searched yaws; 0: the arc of two pooled cells at the moving map's farthest observed
   // cell from its origin.
   double yaw_step = 0.0;
-  int candidates = 8;  // best distinct poses of the search that are refined
+  // Best distinct poses of the search that are refined. Symmetric and periodic floors have many
+  // near-equal minima (a half turn, shifts by a room) that crowd the true pose out: with 8, 6 of
+  // 60 generated pairs were aligned wrongly, with 24, 1 (docs/fusion.md §9).
+  int candidates = 24;
   // m: the coarse-to-fine refinement's finest pooled cell, before ICP (about the matcher's reach).
   double refine_resolution = 0.2;
   // The overlap must hold at least this share of the smaller map's observed cells and of its
@@ -48,14 +51,18 @@ struct AlignmentConfig {
   double distinct_angle = 0.1745329252;  // rad (10°)
   bool icp = true;                       // refine with the scan matcher (ScanMatcher::refine)
   ScanMatcherConfig matcher;             // that refinement's settings
-  // Conflict as the verifier (alignment_check.h), for the final distinct candidates: the one whose
-  // disagreement share is lowest is taken when it is at most verify_ratio times the next one's and
-  // the next one contradicts at least verify_min_length m of confident wall more. It decides when
-  // the score is ambiguous, and overrules nothing: a score winner the verifier clearly rejects is
-  // refused. The tolerance is the registration error two maps of one building may have locally.
+  // Conflict as the verifier (alignment_check.h). The score is ambiguous when distinct
+  // candidates score within 1 / ambiguity_ratio of the best (the band); among those, the one
+  // whose disagreement share is lowest is taken when it is at most verify_ratio times every other
+  // one's and every other one contradicts at least verify_min_length m of confident wall more;
+  // otherwise the alignment is refused. The tolerance is the registration error two maps of one
+  // building may have locally.
   double verify_tolerance = 0.3;  // m
   double verify_ratio = 0.5;
   double verify_min_length = 1.0;  // m
+  // A candidate other than the best-scored can be chosen only if it scores within this share of
+  // the best (a near tie of the score).
+  double verify_score_margin = 0.1;
   // A prior on the moving map's pose in the reference frame (--initial-guess, map_merge's
   // init_pose_*): candidates farther than 3 prior_sigma or turned more than 3 prior_sigma_yaw
   // from it are not considered.
@@ -84,6 +91,7 @@ struct AlignmentResult {
     double conflict = 0.0;        // structure conflict
     double disagreement = 0.0;    // Disagreement::share
     double contradicted_m = 0.0;  // Disagreement::contradicted in m of confident wall
+    double matched_m = 0.0;       // Disagreement::matched in m of confident wall
   };
   std::vector<Candidate> candidates;
   bool decided_by_verifier = false;  // the score was ambiguous; the verifier chose `pose`

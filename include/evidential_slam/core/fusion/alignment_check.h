@@ -20,7 +20,10 @@ struct Disagreement {
   // wall: 20 is a metre of wall at 0.05 m cells.
   double contradicted = 0.0;
   double occupied = 0.0;  // Σ õ of both maps over the overlap
-  size_t overlap = 0;     // moving cells on observed reference cells
+  // Σ over the overlap of õ times the other map's largest õ within R: structure that meets
+  // structure, what supports the pose (same units as `contradicted`).
+  double matched = 0.0;
+  size_t overlap = 0;  // moving cells on observed reference cells
 
   // The share of the overlap's occupied evidence the other map contradicts beyond R.
   double share() const { return occupied > 0.0 ? contradicted / occupied : 0.0; }
