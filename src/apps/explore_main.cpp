@@ -23,7 +23,7 @@ const char kUsage[] =
     "  --map PNG            the world (dark = obstacle) or a map_server .yaml\n"
     "  --resolution M       m per pixel (default 0.05)\n"
     "  --start X,Y,YAW      start pose in the image's frame, centred (default 0,0,0)\n"
-    "  --strategy NAME      ns or frontier (default ns)\n"
+    "  --strategy NAME      ns, entropy or frontier (default ns)\n"
     "  --seed N             simulator and SLAM seed (default 1)\n"
     "  --max-time S         simulated s at most (default 600)\n"
     "  --config FILE        SLAM parameter file (e.g. config/sim.yaml)\n"

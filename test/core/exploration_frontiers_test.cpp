@@ -28,7 +28,7 @@ TEST(CellClasses, ThresholdsDecideInOrderOccupiedUnknownFree) {
   const CellClassConfig c;  // occupied 0.65, free 0.35 with NS <= 0.5, unknown NS >= 0.9
   EXPECT_EQ(classifyCell(0.65, 0.1, c), CellClass::kOccupied);
   EXPECT_EQ(classifyCell(0.65, 0.95, c), CellClass::kOccupied);  // occupied wins
-  EXPECT_EQ(classifyCell(0.5, 1.0, c), CellClass::kUnknown);      // never observed
+  EXPECT_EQ(classifyCell(0.5, 1.0, c), CellClass::kUnknown);     // never observed
   EXPECT_EQ(classifyCell(0.3, 0.9, c), CellClass::kUnknown);
   EXPECT_EQ(classifyCell(0.35, 0.5, c), CellClass::kFree);
   EXPECT_EQ(classifyCell(0.1, 0.2, c), CellClass::kFree);  // one free pass (r = 0.2)
@@ -72,9 +72,8 @@ TEST(Frontiers, FreeCellsBesideUnknownClusteredEightConnected) {
   const Eigen::Vector2d robot(0.15, 0.45);  // cell (1, 4)
   std::vector<Frontier> f = findFrontiers(g, classes, robot, config);
   ASSERT_EQ(f.size(), 2u);
-  std::sort(f.begin(), f.end(), [](const Frontier& a, const Frontier& b) {
-    return a.cells.size() < b.cells.size();
-  });
+  std::sort(f.begin(), f.end(),
+            [](const Frontier& a, const Frontier& b) { return a.cells.size() < b.cells.size(); });
   EXPECT_EQ(f[0].cells, std::vector<int>{g.index(2, 1)});
   EXPECT_EQ(f[1].cells, (std::vector<int>{g.index(7, 1), g.index(8, 2), g.index(8, 3)}));
   EXPECT_NEAR(f[0].size, 0.1, 1e-12);
@@ -148,9 +147,8 @@ TEST(Frontiers, HallPocketAndDoorClustersAndScoresByHand) {
   FrontierConfig config;  // min_frontier_size 0.5 m
   std::vector<Frontier> f = findFrontiers(g, classes, robot, config);
   ASSERT_EQ(f.size(), 2u);
-  std::sort(f.begin(), f.end(), [](const Frontier& a, const Frontier& b) {
-    return a.cells.size() > b.cells.size();
-  });
+  std::sort(f.begin(), f.end(),
+            [](const Frontier& a, const Frontier& b) { return a.cells.size() > b.cells.size(); });
   Frontier& pocket = f[0];
   Frontier& door = f[1];
   ASSERT_EQ(pocket.cells.size(), 31u);  // col 29, rows 5..35
@@ -200,6 +198,59 @@ TEST(Frontiers, HallPocketAndDoorClustersAndScoresByHand) {
   EXPECT_NEAR(pocket.utility, pocket.gain * std::exp(-0.2 * 1.4), 1e-6 * pocket.utility);
   EXPECT_NEAR(door.utility, door.gain * std::exp(-0.2 * 1.9), 1e-6 * door.utility);
   EXPECT_GT(door.utility, pocket.utility);  // ours goes for the door
+}
+
+TEST(VisibleGain, EntropyCountsBalancedEvidenceThatNonSpecificityDoesNot) {
+  // 6 m x 6 m of cells measured often with balanced evidence (BetP 0.5, NS 0.1), range 2 m from
+  // the centre: H(0.5) = 1 bit everywhere, so π 2² bit·m², against 0.1 π 2² m² of NS.
+  LayerRaster r = blankRaster(60, 60, 0.1);
+  fillBox(&r, 0, 0, 59, 59, 'b');
+  const auto classes = classifyCells(r, CellClassConfig());
+  EXPECT_NEAR(visibleGain(r, classes, Layer::kEntropy, {3.0, 3.0}, 2.0, 360), M_PI * 4.0, 1e-4);
+  EXPECT_NEAR(visibleGain(r, classes, Layer::kNonspecificity, {3.0, 3.0}, 2.0, 360),
+              0.1 * M_PI * 4.0, 1e-4);
+  // Never observed space: 1 of either per m², the footprint at most.
+  const LayerRaster empty = blankRaster(0, 0, 0.05);
+  EXPECT_NEAR(visibleGain(empty, {}, Layer::kEntropy, {0.0, 0.0}, 2.0, 360), M_PI * 4.0, 1e-9);
+}
+
+TEST(Frontiers, EntropyGoesForBalancedEvidenceAndNonSpecificityForTheUnmeasured) {
+  // A walled hall (rows 0 and 19, cols 0 and 50 occupied), 0.1 m cells: 1.9 m of balanced cells
+  // (cols 1-19), a never-observed strip (col 20), the free hall (cols 21-39), 1 m never observed
+  // (cols 40-49).
+  // Frontiers at cols 21 and 39, 0.9 m either side of the robot. Within 2 m, the left goal sees
+  // the strip and ~3.3 m² of balanced cells (H 1, NS 0.1), the right one ~1.8 m² never observed;
+  // both ~3.3 m² of hall (H 0.47, NS 0.2).
+  LayerRaster r = blankRaster(51, 20, 0.1);
+  fillBox(&r, 0, 0, 19, 19, 'b');
+  fillBox(&r, 21, 0, 39, 19, '.');
+  fillBox(&r, 0, 0, 50, 0, '#');
+  fillBox(&r, 0, 19, 50, 19, '#');
+  fillBox(&r, 0, 0, 0, 19, '#');
+  fillBox(&r, 50, 0, 50, 19, '#');
+  const GridGeometry g = GridGeometry::of(r);
+  const auto classes = classifyCells(r, CellClassConfig());
+  const Eigen::Vector2d robot(3.05, 1.05);
+  FrontierConfig config;
+  config.min_frontier_size = 0.0;
+  config.gain_range = 2.0;
+  std::vector<Frontier> f = findFrontiers(g, classes, robot, config);
+  ASSERT_EQ(f.size(), 2u);
+  PlannerConfig planner;
+  planner.inflation_radius = planner.robot_radius;
+  const CostGrid grid(g, classes, planner, &robot);
+  placeGoals(g, classes, costToReach(grid, robot), config, &f);
+  const bool first_is_left = f[0].centroid.x() < f[1].centroid.x();
+  const Frontier& left = first_is_left ? f[0] : f[1];
+  const Frontier& right = first_is_left ? f[1] : f[0];
+  ASSERT_TRUE(left.reachable && right.reachable);
+  EXPECT_NEAR(left.path_cost, right.path_cost, 1e-5);
+  config.strategy = "ns";
+  scoreFrontiers(r, classes, config, &f);
+  EXPECT_GT(right.utility, 1.5 * left.utility);
+  config.strategy = "entropy";
+  scoreFrontiers(r, classes, config, &f);
+  EXPECT_GT(left.utility, 1.2 * right.utility);
 }
 
 TEST(Frontiers, UnreachableFrontierHasNoGoal) {
@@ -259,6 +310,9 @@ TEST(Frontiers, StrategyNamesAndBadConfig) {
   EXPECT_EQ(s, Strategy::kNonSpecificity);
   EXPECT_TRUE(parseStrategy("frontier", &s));
   EXPECT_EQ(s, Strategy::kFrontier);
+  EXPECT_TRUE(parseStrategy("entropy", &s));
+  EXPECT_EQ(s, Strategy::kEntropy);
+  EXPECT_STREQ(strategyName(Strategy::kEntropy), "entropy");
   EXPECT_FALSE(parseStrategy("nearest", &s));
   EXPECT_STREQ(strategyName(Strategy::kNonSpecificity), "ns");
   std::string why;
@@ -277,7 +331,7 @@ TEST(Frontiers, StrategyNamesAndBadConfig) {
   EXPECT_EQ(c.kind(), Strategy::kFrontier);
   c.strategy = "nearest";
   EXPECT_FALSE(c.isValid(&why));
-  EXPECT_EQ(why, "strategy must be ns or frontier, not 'nearest'");
+  EXPECT_EQ(why, "strategy must be ns, entropy or frontier, not 'nearest'");
 }
 
 }  // namespace

@@ -73,7 +73,7 @@ TEST(ExplorerParameters, BadNamesAndValuesAreRefusedWithAReason) {
   EXPECT_EQ(c.frontiers.kind(), Strategy::kFrontier);
   EXPECT_TRUE(setExplorerParameter("strategy", "nearest", &c, &why)) << why;
   EXPECT_FALSE(c.isValid(&why));  // the name is checked with the config
-  EXPECT_EQ(why, "strategy must be ns or frontier, not 'nearest'");
+  EXPECT_EQ(why, "strategy must be ns, entropy or frontier, not 'nearest'");
   c = ExplorerConfig();
   EXPECT_TRUE(setExplorerParameter("unknown_ns", "0.3", &c, &why)) << why;
   EXPECT_FALSE(c.isValid(&why));

@@ -1,9 +1,11 @@
 // Hand-made layer rasters for the exploration tests, drawn as text: one string per row, the
 // first string the top row (highest y). '.' free (BetP 0.1, NS 0.2: one free pass), '#'
 // occupied (BetP 0.9, NS 0.1), '?' never observed (BetP 0.5, NS 1), '~' uncertain (BetP 0.45,
-// NS 0.6), 'x' free but in conflict (as '.', EC 2 bits).
+// NS 0.6), 'x' free but in conflict (as '.', EC 2 bits), 'b' balanced evidence (BetP 0.5, NS 0.1:
+// measured often, as often occupied as free). The entropy layer is H(BetP) in bits.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,9 @@ inline void setCell(LayerRaster* r, int col, int row, char c) {
     case 'x':
       betp = 0.1f, ns = 0.2f, ec = 2.0f;
       break;
+    case 'b':
+      betp = 0.5f, ns = 0.1f;
+      break;
     default:
       break;
   }
@@ -36,6 +41,8 @@ inline void setCell(LayerRaster* r, int col, int row, char c) {
   r->values[static_cast<int>(Layer::kNonspecificity)][i] = ns;
   r->values[static_cast<int>(Layer::kUnknown)][i] = ns;
   r->values[static_cast<int>(Layer::kExternalConflict)][i] = ec;
+  r->values[static_cast<int>(Layer::kEntropy)][i] =
+      static_cast<float>(-(betp * std::log2(betp) + (1.0f - betp) * std::log2(1.0f - betp)));
   r->observed[i] = c == '?' ? 0 : 1;
 }
 
@@ -86,7 +93,7 @@ inline LayerRaster hallWithPocketAndDoor() {
   LayerRaster r = blankRaster(60, 80, 0.1);
   fillBox(&r, 0, 0, 59, 39, '#');
   fillBox(&r, 1, 1, 29, 38, '.');
-  fillBox(&r, 30, 5, 33, 35, '?');  // the pocket, walls around it
+  fillBox(&r, 30, 5, 33, 35, '?');   // the pocket, walls around it
   fillBox(&r, 10, 39, 20, 39, '.');  // the door
   return r;
 }

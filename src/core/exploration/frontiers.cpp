@@ -65,6 +65,8 @@ bool parseStrategy(const std::string& name, Strategy* strategy) {
     *strategy = Strategy::kNonSpecificity;
   } else if (name == "frontier") {
     *strategy = Strategy::kFrontier;
+  } else if (name == "entropy") {
+    *strategy = Strategy::kEntropy;
   } else {
     return false;
   }
@@ -72,7 +74,14 @@ bool parseStrategy(const std::string& name, Strategy* strategy) {
 }
 
 const char* strategyName(Strategy strategy) {
-  return strategy == Strategy::kNonSpecificity ? "ns" : "frontier";
+  switch (strategy) {
+    case Strategy::kNonSpecificity:
+      return "ns";
+    case Strategy::kEntropy:
+      return "entropy";
+    default:
+      return "frontier";
+  }
 }
 
 Strategy FrontierConfig::kind() const {
@@ -86,7 +95,7 @@ bool FrontierConfig::isValid(std::string* why) const {
   ES_EXPLORER_GOAL_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
   Strategy s;
   if (ok && !parseStrategy(strategy, &s)) {
-    if (why != nullptr) *why = "strategy must be ns or frontier, not '" + strategy + "'";
+    if (why != nullptr) *why = "strategy must be ns, entropy or frontier, not '" + strategy + "'";
     return false;
   }
   return ok;
@@ -113,10 +122,10 @@ std::vector<Frontier> findFrontiers(const GridGeometry& g, const std::vector<Cel
   return out;
 }
 
-double visibleNonSpecificity(const LayerRaster& raster, const std::vector<CellClass>& classes,
-                             const Eigen::Vector2d& viewpoint, double range, int rays) {
+double visibleGain(const LayerRaster& raster, const std::vector<CellClass>& classes, Layer layer,
+                   const Eigen::Vector2d& viewpoint, double range, int rays) {
   const GridGeometry g = GridGeometry::of(raster);
-  const auto& ns = raster.layer(Layer::kNonspecificity);
+  const auto& values = raster.layer(layer);
   const double step = g.resolution;
   const int samples = static_cast<int>(std::lround(range / step));
   const double dphi = 2.0 * M_PI / rays;
@@ -134,7 +143,7 @@ double visibleNonSpecificity(const LayerRaster& raster, const std::vector<CellCl
       if (g.inside(c, row)) {
         const int i = g.index(c, row);
         if (classes[i] == CellClass::kOccupied) break;
-        value = ns[i];
+        value = values[i];
       }
       ray += value * r;
     }
@@ -209,8 +218,9 @@ void scoreFrontiers(const LayerRaster& raster, const std::vector<CellClass>& cla
     const double discount = std::exp(-config.distance_decay * f.path_cost);
     if (f.revisit) {
       f.utility = config.revisit_weight * f.gain * discount;
-    } else if (strategy == Strategy::kNonSpecificity) {
-      f.gain = visibleNonSpecificity(raster, classes, f.goal, config.gain_range, config.gain_rays);
+    } else if (strategy != Strategy::kFrontier) {
+      const Layer layer = strategy == Strategy::kEntropy ? Layer::kEntropy : Layer::kNonspecificity;
+      f.gain = visibleGain(raster, classes, layer, f.goal, config.gain_range, config.gain_rays);
       f.utility = f.gain * discount;
     } else {
       const double cells = f.size / res;

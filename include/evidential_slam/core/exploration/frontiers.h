@@ -3,6 +3,10 @@
 // - kNonSpecificity ("ns"): the non-specificity it expects to remove, the m(Θ) within the laser's
 //   range and line of sight from the frontier's goal (ray casting on the raster, integrated over
 //   the disc: m²), discounted by the path cost to reach it: gain · exp(-distance_decay · cost);
+// - kEntropy ("entropy"): the probabilistic planner's information gain, the same rays and
+//   discount summing the Shannon entropy H(BetP) (bits · m²) instead of NS: it cannot tell space
+//   never measured from space measured with balanced evidence (glass, clutter, people), where more
+//   measurements resolve nothing;
 // - kFrontier ("frontier"): explore_lite's cost, potential_scale · distance − gain_scale · size
 //   (its parameter names and defaults; see FrontierConfig).
 // Optional revisit goals: clusters of high external conflict, where the map says something is
@@ -21,8 +25,8 @@
 namespace evidential_slam {
 namespace exploration {
 
-enum class Strategy { kNonSpecificity, kFrontier };
-// "ns" or "frontier"; false for anything else.
+enum class Strategy { kNonSpecificity, kFrontier, kEntropy };
+// "ns", "frontier" or "entropy"; false for anything else.
 bool parseStrategy(const std::string& name, Strategy* strategy);
 const char* strategyName(Strategy strategy);
 
@@ -42,15 +46,16 @@ struct FrontierConfig {
 };
 
 struct Frontier {
-  std::vector<int> cells;    // raster indices
-  Eigen::Vector2d centroid;  // mean of the cells' centres
-  double size = 0.0;         // m: cells × resolution
+  std::vector<int> cells;     // raster indices
+  Eigen::Vector2d centroid;   // mean of the cells' centres
+  double size = 0.0;          // m: cells × resolution
   double min_distance = 0.0;  // m, straight line from the robot to the nearest cell
   bool reachable = false;     // some cell of it can be reached
   int goal_cell = -1;         // the reachable cell nearest the centroid
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();
   double path_cost = 0.0;  // costToReach at the goal cell
-  double gain = 0.0;       // "ns": m² of m(Θ) seen from the goal; revisit: bit·m² of EC
+  double gain = 0.0;       // "ns": m² of m(Θ) seen from the goal; "entropy": bit·m² of H(BetP);
+                           // revisit: bit·m² of EC
   double utility = 0.0;    // higher is better (the "frontier" strategy: minus explore_lite's cost)
   bool revisit = false;    // a conflict cluster, not a frontier
 };
@@ -61,12 +66,19 @@ std::vector<Frontier> findFrontiers(const GridGeometry& geometry,
                                     const std::vector<CellClass>& classes,
                                     const Eigen::Vector2d& robot, const FrontierConfig& config);
 
-// The non-specificity visible from `viewpoint` within `range`: Σ over `rays` rays evenly spread
-// over the circle and samples at r = (k + ½)·resolution of NS(cell)·r·Δφ·resolution, so a disc
-// of vacuous cells gives πr². A ray stops at the first occupied cell (classes); beyond the raster
-// cells count as vacuous (NS 1) and do not stop it.
-double visibleNonSpecificity(const LayerRaster& raster, const std::vector<CellClass>& classes,
-                             const Eigen::Vector2d& viewpoint, double range, int rays);
+// The `layer` visible from `viewpoint` within `range`: Σ over `rays` rays evenly spread over the
+// circle and samples at r = (k + ½)·resolution of value(cell)·r·Δφ·resolution, the integral of
+// the layer over the visible part of the disc: a disc of value 1 gives πr², and no gain exceeds
+// the sensor's footprint times the layer's largest value. A ray stops at the first occupied cell
+// (classes); beyond the raster cells count as never observed (value 1: NS 1, H 1 bit) and do not
+// stop it.
+double visibleGain(const LayerRaster& raster, const std::vector<CellClass>& classes, Layer layer,
+                   const Eigen::Vector2d& viewpoint, double range, int rays);
+inline double visibleNonSpecificity(const LayerRaster& raster,
+                                    const std::vector<CellClass>& classes,
+                                    const Eigen::Vector2d& viewpoint, double range, int rays) {
+  return visibleGain(raster, classes, Layer::kNonspecificity, viewpoint, range, rays);
+}
 
 // Clusters (8-connected, at least revisit_min_cells) of cells whose EC reaches
 // revisit_ec_threshold, each with gain = Σ EC · cell area; reachable/goal/path_cost unset.
@@ -80,7 +92,7 @@ void placeGoals(const GridGeometry& geometry, const std::vector<CellClass>& clas
                 const std::vector<float>& cost_to_reach, const FrontierConfig& config,
                 std::vector<Frontier>* frontiers);
 
-// Sets gain (strategy "ns", frontiers only) and utility of each reachable goal.
+// Sets gain (strategies "ns" and "entropy", frontiers only) and utility of each reachable goal.
 void scoreFrontiers(const LayerRaster& raster, const std::vector<CellClass>& classes,
                     const FrontierConfig& config, std::vector<Frontier>* frontiers);
 
