@@ -629,9 +629,7 @@ uint64_t GridmapSimulator::collisions() const { return impl_->collisions; }
 Eigen::Vector2d GridmapSimulator::lastCollisionPosition() const { return impl_->last_collision; }
 double GridmapSimulator::lastCollisionTime() const { return impl_->last_collision_time; }
 bool GridmapSimulator::stuck() const { return impl_->stuck; }
-const exploration::OccupancyImage& GridmapSimulator::obstacles() const {
-  return impl_->obstacles;
-}
+const exploration::OccupancyImage& GridmapSimulator::obstacles() const { return impl_->obstacles; }
 double GridmapSimulator::now() const { return impl_->clock; }
 Pose2 GridmapSimulator::truePose() const { return impl_->truth; }
 const Pose2& GridmapSimulator::laserPose() const { return impl_->laser_pose; }
@@ -831,10 +829,10 @@ bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& r
     }
     s.kidnapped = s.kidnapped || scan.kidnapped;
     s.moving_object_scans += scan.moving_object ? 1 : 0;
-    s.object_scans += std::any_of(scan.object_hit.begin(), scan.object_hit.end(),
-                                  [](int k) { return k >= 0; })
-                          ? 1
-                          : 0;
+    s.object_scans +=
+        std::any_of(scan.object_hit.begin(), scan.object_hit.end(), [](int k) { return k >= 0; })
+            ? 1
+            : 0;
     if (truth_scans.is_open()) {
       const Pose2& p = scan.true_pose;
       const Pose2& l = scan.scan.sensor_pose;

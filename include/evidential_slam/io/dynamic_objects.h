@@ -14,7 +14,7 @@ namespace evidential_slam {
 namespace io {
 
 struct DynamicObject {
-  double t0 = 0.0, t1 = 0.0;  // s, present in [t0, t1]
+  double t0 = 0.0, t1 = 0.0;           // s, present in [t0, t1]
   Eigen::Vector2d a0{0, 0}, b0{0, 0};  // segment at t0 (m, map frame)
   Eigen::Vector2d a1{0, 0}, b1{0, 0};  // segment at t1
   double radius = 0.0;                 // m, > 0
