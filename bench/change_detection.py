@@ -323,6 +323,8 @@ def score_run(sc, work, out, peer_flip, peer_scans):
                 m = grid.mask(ex, ey) & ((first < o["t0"]) | (last > o["t1"]))
                 positive |= m
     walls &= ~positive
+    np.savez_compressed(os.path.join(work, "cells.npz"), positive=positive, walls=walls,
+                        first=first, last=last)
     values = {"anomaly": max3(grid.layers["anomaly"]),
               "ec": max3(grid.layers["external_conflict"]),
               "peer": max3(peer_flip)}
