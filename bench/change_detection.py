@@ -31,8 +31,10 @@ before the first event:
 """
 
 import argparse
+import functools
 import json
 import math
+import multiprocessing
 import os
 import random
 import re
@@ -411,6 +413,46 @@ def run_scenario(seed, kind, args):
     return r
 
 
+def check(results, junit):
+    """The smoke test's verdict (--check): every scenario scored with cells of both kinds, the
+    anomaly layer above chance and above EC and the peer on both, every kidnap that left the
+    filter lost detected, no false alarm. Writes a JUnit file when asked; True when all hold."""
+    kinds = {k: [r for r in results if r["kind"] == k] for k in KINDS}
+    failures = []
+
+    def pooled(kind, layer, part):
+        return sum((r[part][layer] for r in kinds[kind]), [])
+
+    for kind in ("kidnap", "objects"):
+        if not pooled(kind, "anomaly", "pos") or not pooled(kind, "anomaly", "walls"):
+            failures.append(f"no {kind} cells to score")
+            continue
+        a = {n: auc(pooled(kind, n, "pos"), pooled(kind, n, "walls"))
+             for n in ("anomaly", "ec", "peer")}
+        if not (a["anomaly"] >= 0.8 and a["anomaly"] > a["ec"] and a["anomaly"] > a["peer"]):
+            failures.append(f"{kind}: AUC anomaly {a['anomaly']:.3f}, EC {a['ec']:.3f}, "
+                            f"peer {a['peer']:.3f}")
+    for r in kinds["kidnap"]:
+        if r["kidnap_m"] >= 0.5 and r["lost"] and r["delay_scans"] is None:
+            failures.append(f"kidnap of scenario {r['seed']} not detected")
+    for r in results:
+        if r["false_alarms"]:
+            failures.append(f"{r['false_alarms']} false alarm(s) in scenario {r['seed']}")
+    if junit:
+        with open(junit, "w") as f:
+            body = "".join(f'<failure message="{m}"/>' for m in failures)
+            f.write('<?xml version="1.0"?>\n<testsuite name="change_detection" tests="1" '
+                    f'failures="{1 if failures else 0}"><testcase name="smoke">{body}'
+                    '</testcase></testsuite>\n')
+    for m in failures:
+        print("CHECK FAILED: " + m)
+    return not failures
+
+
+def run_task(task, args):
+    return run_scenario(task[0], task[1], args)
+
+
 def fmt(v, spec="%.3f"):
     return "—" if v is None else spec % v
 
@@ -480,8 +522,18 @@ def main():
     ap.add_argument("--work", default="/tmp/change_detection", help="work directory")
     ap.add_argument("--bin", default=BIN, help="directory of the built programs")
     ap.add_argument("--keep", action="store_true", help="keep each scenario's files")
-    ap.add_argument("--json", help="also write the per-scenario results here")
+    ap.add_argument("--json", help="also write the per-scenario results here (after each one)")
+    ap.add_argument("--jobs", type=int, default=1, help="scenarios run at once [1]")
+    ap.add_argument("--summarize", help="only print the tables of a --json file")
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 unless the smoke test's conditions hold (check())")
+    ap.add_argument("--junit", help="with --check: write the verdict as a JUnit file")
     args = ap.parse_args()
+    if args.summarize:
+        with open(args.summarize) as f:
+            saved = json.load(f)
+        summarize(saved["results"], args, saved["seed"])
+        return
     if args.smoke:
         args.runs, args.particles = min(args.runs, 6), min(args.particles, 10)
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 10**6)
@@ -490,23 +542,27 @@ def main():
     args.offline = os.path.join(args.bin, "evidential_slam_offline")
     args.peer = os.path.join(args.bin, "evidential_slam_logodds_baseline")
     results = []
-    i = 0
     t0 = time.time()
-    while len(results) < args.runs and i < 4 * args.runs:
-        kind = KINDS[len(results) % len(KINDS)]
-        sub = seed * 1000 + i
-        i += 1
-        r = run_scenario(sub, kind, args)
-        if r is None:
-            continue
-        results.append(r)
-        brief = {k: v for k, v in r.items() if k not in ("pos", "walls", "false_alarm_stamps")}
-        print(f"[{len(results)}/{args.runs} {time.time() - t0:.0f} s] " + json.dumps(brief),
-              flush=True)
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(results, f)
+    # Scenario i is of kind i mod 3; one whose events cannot be placed is skipped.
+    tasks = [(seed * 1000 + i, KINDS[i % len(KINDS)]) for i in range(4 * args.runs)]
+    with multiprocessing.Pool(max(1, args.jobs)) as pool:
+        for r in pool.imap(functools.partial(run_task, args=args), tasks):
+            if r is None:
+                continue
+            results.append(r)
+            brief = {k: v for k, v in r.items()
+                     if k not in ("pos", "walls", "false_alarm_stamps")}
+            print(f"[{len(results)}/{args.runs} {time.time() - t0:.0f} s] " + json.dumps(brief),
+                  flush=True)
+            if args.json:
+                with open(args.json, "w") as f:
+                    json.dump({"seed": seed, "results": results}, f)
+            if len(results) >= args.runs:
+                pool.terminate()
+                break
     summarize(results, args, seed)
+    if args.check and not check(results, args.junit):
+        sys.exit(1)
 
 
 if __name__ == "__main__":
