@@ -43,7 +43,7 @@ void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int 
                  std::vector<AnomalyCell>* out);
 
 // Σ K over `cells` (K = 1 - 2^-bits): how many cells' confident evidence one scan contradicted,
-// each weighted by how strongly (the conflict alarm's input).
+// each weighted by how strongly (conflict.csv's contradiction_added).
 double contradictionOf(const std::vector<AnomalyCell>& cells);
 
 // Per-cell anomaly accumulated over scans (bits). Sparse: most cells never hold any.

@@ -55,7 +55,7 @@ struct ScanConflict {
   double open_space_added = 0.0;
   // Σ K over the cells whose confident evidence the scan contradicts, before the update
   // (contradictionOf the scan's anomaly cells, anomaly.h): hits in open space and passes through
-  // obstacles, undiluted by the conflict already there. The conflict alarm's input.
+  // obstacles, undiluted by the conflict already there (reported; not the alarm's input).
   double contradiction = 0.0;
 };
 
