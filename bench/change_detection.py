@@ -127,8 +127,9 @@ def max3(a):
 
 
 def auc(pos, neg):
-    """ROC AUC of pos against neg (ties count one half); None without both."""
+    """ROC AUC of pos against neg (ties count one half; NaN values left out); None without both."""
     pos, neg = np.asarray(pos, dtype=np.float64), np.asarray(neg, dtype=np.float64)
+    pos, neg = pos[~np.isnan(pos)], neg[~np.isnan(neg)]
     if len(pos) == 0 or len(neg) == 0:
         return None
     allv = np.concatenate([pos, neg])
@@ -470,8 +471,11 @@ def summarize(results, args, seed):
         rs = kinds[kind]
         pos = {n: sum((r["pos"][n] for r in rs), []) for n in ("anomaly", "ec", "peer")}
         neg = {n: sum((r["walls"][n] for r in rs), []) for n in ("anomaly", "ec", "peer")}
-        med = {n: (float(np.median(pos[n])) if pos[n] else None,
-                   float(np.median(neg[n])) if neg[n] else None) for n in pos}
+        med = {n: (float(np.nanmedian(pos[n])) if pos[n] else None,
+                   float(np.nanmedian(neg[n])) if neg[n] else None) for n in pos}
+        nans = sum(int(np.isnan(np.asarray(pos[n] + neg[n], dtype=float)).sum()) for n in pos)
+        if nans:
+            print(f"({label}: {nans} cell values are NaN, left out)")
         print(f"| {label} | {len(pos['anomaly'])} / {len(neg['anomaly'])} | "
               f"{fmt(auc(pos['anomaly'], neg['anomaly']))} | {fmt(auc(pos['ec'], neg['ec']))} | "
               f"{fmt(auc(pos['peer'], neg['peer']))} | {fmt(med['anomaly'][0], '%.2f')} / "
