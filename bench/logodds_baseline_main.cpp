@@ -9,7 +9,13 @@
 //       [--resolution 0.05] [--usable-range 20]
 // The grid file: a header line `x0 y0 resolution width height`, then `height` rows (lowest y
 // first) of `width` integers: -1 unknown, else round(100 p(occupied)).
+// The change-detection benchmark's peer score (bench/change_detection.py), with --flip-out and
+// --scan-out: per cell, the sum of |delta log-odds| of the updates that flipped its sign (occupied
+// <-> free; the first update of an unknown cell is not a flip), as a grid of the same window
+// (floats); and per processed scan a line `stamp flip_sum flipped_cells`.
 #include <octomap/octomap.h>
+
+#include <unordered_map>
 
 #include <algorithm>
 #include <cmath>
@@ -59,7 +65,7 @@ const es::StampedPose* poseAt(const std::vector<es::StampedPose>& poses, double 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string rawlog, trajectory, stamps_file, grid_out, load_tree, save_tree;
+  std::string rawlog, trajectory, stamps_file, grid_out, load_tree, save_tree, flip_out, scan_out;
   double resolution = 0.05, usable_range = 20.0;
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -76,6 +82,10 @@ int main(int argc, char** argv) {
       load_tree = value;
     else if (key == "--save-tree")
       save_tree = value;
+    else if (key == "--flip-out")
+      flip_out = value;
+    else if (key == "--scan-out")
+      scan_out = value;
     else if (key == "--resolution")
       resolution = std::stod(value);
     else if (key == "--usable-range")
@@ -93,7 +103,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: %s --rawlog F --trajectory T.tum --stamps conflict.csv --grid-out G.txt "
                  "--window X0,Y0,X1,Y1 [--load-tree IN.ot] [--save-tree OUT.ot] "
-                 "[--resolution M] [--usable-range M]\n",
+                 "[--resolution M] [--usable-range M] [--flip-out F.txt] [--scan-out S.txt]\n",
                  argv[0]);
     return 1;
   }
@@ -121,6 +131,25 @@ int main(int argc, char** argv) {
   if (!reader.open(rawlog, &error)) return fail(error);
   es::io::RawlogScan s;
   int inserted = 0;
+  std::unordered_map<octomap::OcTreeKey, float, octomap::OcTreeKey::KeyHash> flips;
+  std::ofstream scan_file;
+  if (!scan_out.empty()) {
+    scan_file.open(scan_out);
+    if (!scan_file) return fail("cannot write " + scan_out);
+    scan_file << "# stamp flip_sum flipped_cells\n";
+  }
+  // One update of a cell; its |delta log-odds| when it flips the sign.
+  auto update = [&](const octomap::OcTreeKey& k, bool occupied, double* sum, int* cells) {
+    const octomap::OcTreeNode* before = tree->search(k);
+    const float l0 = before ? before->getLogOdds() : 0.0f;
+    const octomap::OcTreeNode* after = tree->updateNode(k, occupied);
+    const float l1 = after->getLogOdds();
+    if (l0 != 0.0f && (l0 > 0.0f) != (l1 > 0.0f)) {
+      flips[k] += std::abs(l1 - l0);
+      *sum += std::abs(l1 - l0);
+      ++*cells;
+    }
+  };
   while (reader.next(&s) == es::io::RawlogReader::Status::kScan) {
     if (processed.count(std::llround(s.scan.stamp * 1e3)) == 0) continue;
     const es::StampedPose* p = poseAt(poses, s.scan.stamp);
@@ -141,11 +170,26 @@ int main(int argc, char** argv) {
       cloud.push_back(static_cast<float>(sensor.x + r * std::cos(a)),
                       static_cast<float>(sensor.y + r * std::sin(a)), static_cast<float>(kSlabZ));
     }
-    tree->insertPointCloud(
-        cloud,
-        octomap::point3d(static_cast<float>(sensor.x), static_cast<float>(sensor.y),
-                         static_cast<float>(kSlabZ)),
-        usable_range);
+    const octomap::point3d origin(static_cast<float>(sensor.x), static_cast<float>(sensor.y),
+                                  static_cast<float>(kSlabZ));
+    if (flip_out.empty() && scan_out.empty()) {
+      tree->insertPointCloud(cloud, origin, usable_range);
+    } else {
+      // What insertPointCloud does (occupied wins over free within a scan), one cell at a time.
+      octomap::KeySet free_cells, occupied_cells;
+      tree->computeUpdate(cloud, origin, free_cells, occupied_cells, usable_range);
+      double sum = 0.0;
+      int cells = 0;
+      for (const auto& k : free_cells) {
+        if (occupied_cells.find(k) == occupied_cells.end()) update(k, false, &sum, &cells);
+      }
+      for (const auto& k : occupied_cells) update(k, true, &sum, &cells);
+      if (scan_file.is_open()) {
+        char line[96];
+        std::snprintf(line, sizeof(line), "%.6f %.6g %d\n", s.scan.stamp, sum, cells);
+        scan_file << line;
+      }
+    }
     ++inserted;
   }
   if (!save_tree.empty() && !tree->write(save_tree)) return fail("cannot write " + save_tree);
@@ -165,6 +209,25 @@ int main(int argc, char** argv) {
   std::ofstream file(grid_out);
   file << out.str();
   if (!file) return fail("cannot write " + grid_out);
+  if (!flip_out.empty()) {
+    std::ofstream f(flip_out);
+    f << x0 << ' ' << y0 << ' ' << resolution << ' ' << width << ' ' << height << '\n';
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        octomap::OcTreeKey k;
+        float v = 0.0f;
+        if (tree->coordToKeyChecked(x0 + (c + 0.5) * resolution, y0 + (r + 0.5) * resolution,
+                                    kSlabZ, k)) {
+          const auto it = flips.find(k);
+          if (it != flips.end()) v = it->second;
+        }
+        f << (c ? " " : "") << v;
+      }
+      f << '\n';
+    }
+    if (!f) return fail("cannot write " + flip_out);
+  }
+  if (scan_file.is_open() && !scan_file.flush()) return fail("cannot write " + scan_out);
   std::printf("%d scans inserted; OctoMap hit %.2f miss %.2f clamping [%.3f, %.3f]\n", inserted,
               tree->getProbHit(), tree->getProbMiss(), tree->getClampingThresMin(),
               tree->getClampingThresMax());

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
     return io::kSimulateOk;
   }
   io::SimulationSummary summary;
-  if (!io::simulateToRawlog(options.config, options.out, &summary, &error)) {
+  if (!io::simulateToRawlog(options.config, options.out, &summary, &error, options.truth_scans)) {
     std::fprintf(stderr, "error: %s\n", error.c_str());
     return io::kSimulateBadInput;
   }

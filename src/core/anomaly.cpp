@@ -9,9 +9,19 @@
 namespace evidential_slam {
 namespace {
 
-// Each rule's conflict must reach this (a cell believed one way with confidence, a scan mass the
-// other way with confidence: 1/2 needs both at least 1/2).
-constexpr float kMinConflict = 0.5f;
+// A hit contradicts a cell the map holds free with at least this normalised mass.
+constexpr float kConfidentFree = 0.5f;
+// The scan's side. A hit: the cell holds the endpoint. A hit's occupied mass, (1 - r) η [p_o pl +
+// (1 - p_o) m] (algorithm.md §4), is 0.63 on the cell whose centre the endpoint falls on, 0.48 on
+// each of two cells when it falls on their border, 0.19 on the neighbours of a centred one: 0.35
+// takes the endpoint's cell wherever in it the endpoint lies (K >= 1/2 dropped those near a
+// border, and floor seen free only once or twice).
+constexpr float kHitMass = 0.35f;
+// A pass: a clearing beam crossing a cell the map holds occupied, with conflict K = m̃(o) s(e) >=
+// 1/2, i.e. m̃(o) >= 0.625 under a clearing beam's s(e) = 0.8. A wall's surface cells are partly
+// wall, held occupied without that confidence while grazing beams clear them and others hit them
+// (m̃(o) >= 1/2 alone flagged the faces of thin walls on clean generated runs).
+constexpr float kMinPassConflict = 0.5f;
 // A scan mass this occupied or more says the scan sees a surface in that cell.
 constexpr float kSurfaceMass = 0.05f;
 
@@ -26,18 +36,18 @@ bool believedFree(const Cell& c) { return c.free() > c.occupied(); }
 void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int radius,
                  std::vector<AnomalyCell>* out) {
   scan.forEachCell([&](int x, int y, const ScanMass& s) {
-    if (s.occupied >= kMinConflict) {
+    if (s.occupied >= kHitMass) {
       // A hit in open space.
       const Cell& c = map.cell(x, y);
+      if (c.free() < kConfidentFree) return;
       const float k = c.free() * s.occupied;
-      if (k < kMinConflict) return;
       for (int dy = -radius; dy <= radius; ++dy) {
         for (int dx = -radius; dx <= radius; ++dx) {
           if (!believedFree(map.cell(x + dx, y + dy))) return;
         }
       }
       out->push_back(AnomalyCell{x, y, bitsOf(k)});
-    } else if (s.free >= kMinConflict) {
+    } else if (s.free >= kMinPassConflict) {
       // A pass through an obstacle. Most cleared cells hold no occupied mass at all (the tile's
       // may-hold-occupied bit), and are passed over without reading them.
       const EvidentialGridMap::Tile* tile =
@@ -45,16 +55,33 @@ void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int 
       const int k_cell = EvidentialGridMap::cellInTile(x, y);
       if (tile == nullptr || !tile->mayHoldOccupied(k_cell)) return;
       const float k = tile->cells[static_cast<size_t>(k_cell)].occupied() * s.free;
-      if (k < kMinConflict) return;
+      if (k < kMinPassConflict) return;
       for (int dy = -radius; dy <= radius; ++dy) {
         for (int dx = -radius; dx <= radius; ++dx) {
           const ScanMass* n = scan.find(x + dx, y + dy);
           if (n != nullptr && n->occupied >= kSurfaceMass) return;
         }
       }
+      // Through the obstacle, not along its surface: every neighbour the map does not hold free
+      // is cleared too. A beam grazing a wall clips its surface cells and leaves the wall's next
+      // cells as they were, and at grazing incidence its own hit and its neighbours' lie far
+      // along the wall, outside the window above.
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (believedFree(map.cell(x + dx, y + dy))) continue;
+          const ScanMass* n = scan.find(x + dx, y + dy);
+          if (n == nullptr || n->free < kMinPassConflict) return;
+        }
+      }
       out->push_back(AnomalyCell{x, y, bitsOf(k)});
     }
   });
+}
+
+double contradictionOf(const std::vector<AnomalyCell>& cells) {
+  double sum = 0.0;
+  for (const AnomalyCell& c : cells) sum += 1.0 - std::exp2(-static_cast<double>(c.bits));
+  return sum;
 }
 
 void AnomalyGrid::add(int x, int y, float bits) {

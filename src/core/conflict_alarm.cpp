@@ -18,6 +18,7 @@ ConflictAlarm::ConflictAlarm(const ConflictAlarmConfig& config) : config_(config
 
 void ConflictAlarm::reset() {
   window_.clear();
+  above_ = 0;
   in_alarm_ = false;
 }
 
@@ -45,11 +46,13 @@ ConflictAlarmState ConflictAlarm::update(double added) {
   s.ratio = s.baseline > 0.0 ? s.added / s.baseline : 0.0;
   const bool warm =
       static_cast<int>(window_.size()) >= std::min(config_.warmup_scans, config_.baseline_scans);
-  s.alarm = config_.enabled && warm && s.added > config_.min_added &&
+  s.above = config_.enabled && warm && s.added > config_.min_added &&
             s.added > config_.threshold_factor * s.baseline;
+  above_ = s.above ? above_ + 1 : 0;
+  s.alarm = above_ >= std::max(1, config_.confirm_scans);
   s.rising = s.alarm && !in_alarm_;
   in_alarm_ = s.alarm;
-  if (!s.alarm) {  // an alarming scan must not raise the baseline it is judged against
+  if (!s.above) {  // a scan above the threshold must not raise the baseline it is judged against
     window_.push_back(s.added);
     while (window_.size() > static_cast<size_t>(config_.baseline_scans)) window_.pop_front();
   }

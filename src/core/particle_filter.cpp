@@ -392,7 +392,8 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
                                              increment, config_.motion, kTranslationFailureNats);
   }
 
-  // 4b. Weight and map update (unless mapping is paused), once per group. Only the best particle's conflict figures are
+  // 4b. Weight and map update (unless mapping is paused), once per group. Only the best particle's
+  // conflict figures are
   //     reported, so a group whose highest new cumulative weight is already below another
   //     group's skips the open-space pass (the best group never does, whatever the order).
   std::vector<double> group_top(leaders.size(), -std::numeric_limits<double>::infinity());
@@ -412,20 +413,20 @@ FilterStepInfo ParticleFilter::update(const Pose2& increment, const LaserScan& s
       return;
     }
     Workspace& ws = *workspaces_[static_cast<size_t>(worker)];
-    log_pl[g] = beam_model->weighAndAccumulate(proposed[leaders[g]].compose(scan.sensor_pose),
-                                               scan, p.map, &ws.accumulator,
-                                               config_.sensor.weight_beam_stride);
+    log_pl[g] =
+        beam_model->weighAndAccumulate(proposed[leaders[g]].compose(scan.sensor_pose), scan, p.map,
+                                       &ws.accumulator, config_.sensor.weight_beam_stride);
     // The same sum as 5.'s, so the comparison is exact (adding one number keeps the order).
     const double top = group_top[g] + (exponent * log_pl[g] + motion_log_prior[g]);
     double seen = best_top.load(std::memory_order_relaxed);
-    while (top > seen &&
-           !best_top.compare_exchange_weak(seen, top, std::memory_order_relaxed)) {
+    while (top > seen && !best_top.compare_exchange_weak(seen, top, std::memory_order_relaxed)) {
     }
     const bool may_be_best = !(top < seen);
     // The anomaly against the map before the scan (anomaly.h), kept on the group's lineage.
     scanAnomaly(ws.accumulator, p.map, beam_model->openSpaceRadius(), &anomaly[g]);
-    conflict_added[g] = beam_model->applyScan(ws.accumulator, &p.map,
-                                              may_be_best ? &conflict_stats[g] : nullptr);
+    conflict_added[g] =
+        beam_model->applyScan(ws.accumulator, &p.map, may_be_best ? &conflict_stats[g] : nullptr);
+    conflict_stats[g].contradiction = contradictionOf(anomaly[g]);
   });
   Profiler* const profiler = Profiler::active();
   if (profiler != nullptr) {

@@ -135,6 +135,7 @@ ScanUpdate SlamEngine::processScan(const Pose2& odometry, const LaserScan& scan)
   out.external_conflict_added = info.best_conflict_added_bits;
   out.conflict_mass_added = info.best_conflict.mass_added;
   out.open_space_conflict_added = info.best_conflict.open_space_added;
+  out.contradiction_added = info.best_conflict.contradiction;
   out.best_pose = bestPose();
   return out;
 }

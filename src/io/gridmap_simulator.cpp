@@ -28,6 +28,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include "evidential_slam/io/atomic_files.h"
+#include "evidential_slam/io/dynamic_objects.h"
 #include "evidential_slam/io/error_text.h"
 
 namespace evidential_slam {
@@ -193,6 +194,9 @@ std::vector<GridmapSimulatorField> gridmapSimulatorFields(GridmapSimulatorConfig
       {"moving_object_bearing_max", &c->moving_object_bearing_max,
        "rad, laser frame, last bearing it covers"},
       {"moving_object_distance", &c->moving_object_distance, "m, its distance from the laser"},
+      {"objects", &c->objects,
+       "objects file: `disc T0 T1 X0 Y0 X1 Y1 R` / `bar T0 T1 AX AY BX BY R` per line (map "
+       "frame, s, m); \"\" = none"},
   };
 }
 
@@ -263,6 +267,7 @@ struct GridmapSimulator::Impl {
   Pose2 laser_pose;
   mrpt::maps::COccupancyGridMap2D grid;
   std::vector<Eigen::Vector2d> waypoints;
+  std::vector<DynamicObject> objects;
   size_t next_waypoint = 1;
   bool loaded = false;
 
@@ -383,6 +388,9 @@ struct GridmapSimulator::Impl {
     }
     if (!loadMap(error)) return false;
     buildObstacles();
+    if (!config.objects.empty() && !readDynamicObjects(config.objects, &objects, error)) {
+      return false;
+    }
     if (!config.waypoints.empty()) {
       if (!readWaypoints(config.waypoints, &waypoints, error)) return false;
       // The run ends at the last waypoint: one far off the map would never be reached. Beyond a
@@ -500,7 +508,7 @@ struct GridmapSimulator::Impl {
            bearing <= config.moving_object_bearing_max;
   }
 
-  LaserScan castScan(double stamp, bool* moving_object_seen) {
+  LaserScan castScan(double stamp, bool* moving_object_seen, std::vector<int>* object_hit) {
     LaserScan scan;
     scan.stamp = stamp;
     scan.sensor_pose = laser_pose;
@@ -518,6 +526,7 @@ struct GridmapSimulator::Impl {
     const double trace_range = config.laser_max_range / std::min(step, 1.0) + config.resolution;
     const float threshold_free = static_cast<float>(1.0 - config.occupied_threshold);
     *moving_object_seen = false;
+    object_hit->assign(n, -1);
     for (size_t i = 0; i < n; ++i) {
       // Right to left, as MRPT's CObservation2DRangeScan (rightToLeft = true) numbers them.
       const double bearing =
@@ -529,7 +538,21 @@ struct GridmapSimulator::Impl {
       bool valid = false;
       grid.simulateScanRay(sensor.x, sensor.y, sensor.theta + bearing + direction_error, range,
                            valid, trace_range, threshold_free, 0.0, 0.0);
-      if (valid && range >= config.laser_max_range) valid = false;
+      if (!objects.empty()) {
+        const double a = sensor.theta + bearing + direction_error;
+        double d = -1.0;
+        const int k = nearestObjectHit(objects, stamp, Eigen::Vector2d(sensor.x, sensor.y),
+                                       Eigen::Vector2d(std::cos(a), std::sin(a)), &d);
+        if (k >= 0 && (!valid || d < range)) {
+          range = static_cast<float>(d);
+          valid = true;
+          (*object_hit)[i] = k;
+        }
+      }
+      if (valid && range >= config.laser_max_range) {
+        valid = false;
+        (*object_hit)[i] = -1;
+      }
       if (inMovingObjectWindow(stamp, bearing)) {
         range = static_cast<float>(config.moving_object_distance);
         valid = true;
@@ -575,7 +598,7 @@ struct GridmapSimulator::Impl {
     out->true_pose = truth;
     out->collisions = collisions;
     out->in_contact = in_contact;
-    out->scan = castScan(clock, &out->moving_object);
+    out->scan = castScan(clock, &out->moving_object, &out->object_hit);
     ++scans;
     return true;
   }
@@ -606,9 +629,7 @@ uint64_t GridmapSimulator::collisions() const { return impl_->collisions; }
 Eigen::Vector2d GridmapSimulator::lastCollisionPosition() const { return impl_->last_collision; }
 double GridmapSimulator::lastCollisionTime() const { return impl_->last_collision_time; }
 bool GridmapSimulator::stuck() const { return impl_->stuck; }
-const exploration::OccupancyImage& GridmapSimulator::obstacles() const {
-  return impl_->obstacles;
-}
+const exploration::OccupancyImage& GridmapSimulator::obstacles() const { return impl_->obstacles; }
 double GridmapSimulator::now() const { return impl_->clock; }
 Pose2 GridmapSimulator::truePose() const { return impl_->truth; }
 const Pose2& GridmapSimulator::laserPose() const { return impl_->laser_pose; }
@@ -774,7 +795,8 @@ bool SimulationRecorder::close(std::string* error) {
 uint64_t SimulationRecorder::written() const { return impl_->written; }
 
 bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& rawlog_path,
-                      SimulationSummary* summary, std::string* error) {
+                      SimulationSummary* summary, std::string* error,
+                      const std::string& truth_scans_path) {
   auto fail = [&](const std::string& why) {
     if (error) *error = why;
     return false;
@@ -787,6 +809,12 @@ bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& r
   if (!simulator.load(&why)) return fail(why);
   SimulationRecorder recorder;
   if (!recorder.open(rawlog_path, config.laser_label, &why)) return fail(why);
+  std::ofstream truth_scans;
+  if (!truth_scans_path.empty()) {
+    truth_scans.open(truth_scans_path);
+    if (!truth_scans) return fail("cannot write truth scans '" + truth_scans_path + "'");
+    truth_scans << std::setprecision(9);
+  }
   SimulationSummary s;
   SimulatedScan scan;
   Pose2 previous_truth;
@@ -801,6 +829,21 @@ bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& r
     }
     s.kidnapped = s.kidnapped || scan.kidnapped;
     s.moving_object_scans += scan.moving_object ? 1 : 0;
+    s.object_scans +=
+        std::any_of(scan.object_hit.begin(), scan.object_hit.end(), [](int k) { return k >= 0; })
+            ? 1
+            : 0;
+    if (truth_scans.is_open()) {
+      const Pose2& p = scan.true_pose;
+      const Pose2& l = scan.scan.sensor_pose;
+      truth_scans << scan.stamp << ' ' << p.x << ' ' << p.y << ' ' << p.theta << ' ' << l.x << ' '
+                  << l.y << ' ' << l.theta << ' ' << scan.scan.size();
+      for (size_t i = 0; i < scan.scan.size(); ++i) {
+        truth_scans << ' ' << (scan.scan.valid[i] ? scan.scan.ranges[i] : 0.0f);
+      }
+      for (int k : scan.object_hit) truth_scans << ' ' << k;
+      truth_scans << '\n';
+    }
     previous_truth = scan.true_pose;
     s.last_stamp = scan.stamp;
     ++s.scans;
@@ -809,6 +852,9 @@ bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& r
         (first_truth.compose(scan.odometry).translation() - scan.true_pose.translation()).norm();
   }
   if (!recorder.close(&why)) return fail(why);
+  if (truth_scans.is_open() && !truth_scans.flush()) {
+    return fail("cannot write truth scans '" + truth_scans_path + "'");
+  }
   s.collisions = simulator.collisions();
   s.stuck = simulator.stuck();
   if (summary) *summary = s;

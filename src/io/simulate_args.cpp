@@ -117,6 +117,8 @@ std::string simulateUsage(const std::string& program) {
        "                      reads DISTANCE m (+ range noise)\n"
        "\n"
        "Other:\n"
+       "  --truth-scans FILE  also write per scan the true pose, the laser pose, the ranges and\n"
+       "                      the object (--objects) each ray ended on (-1: a wall), for scoring\n"
        "  --quiet             no summary\n"
        "  -h, --help          this text\n"
        "\n"
@@ -167,7 +169,8 @@ bool parseSimulateArgs(const std::vector<std::string>& args, SimulateOptions* o,
     for (const auto& f : fields) {
       if (flag == optionName(f.name)) field = &f;
     }
-    if (!field && flag != "--out" && flag != "--kidnap" && flag != "--moving-object") {
+    if (!field && flag != "--out" && flag != "--kidnap" && flag != "--moving-object" &&
+        flag != "--truth-scans") {
       return bad("unknown option '" + args[i] + "'");
     }
     if (!has_inline) {
@@ -177,6 +180,8 @@ bool parseSimulateArgs(const std::vector<std::string>& args, SimulateOptions* o,
     std::vector<double> v;
     if (flag == "--out") {
       o->out = value;
+    } else if (flag == "--truth-scans") {
+      o->truth_scans = value;
     } else if (flag == "--kidnap") {
       if (!parseList(value, 4, &v)) return bad("--kidnap wants T,DX,DY,DTH (four numbers)");
       o->config.kidnap_time = v[0];

@@ -79,9 +79,10 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
   if (have_origin_) {
     const double distance = std::hypot(odometry.x - origin_.x, odometry.y - origin_.y);
     if (distance > c.max_map_extent) {
-      return refuse(format("scan at %.3f refused: the odometry is %.0f m from where the map "
-                           "started, beyond max_map_extent (%.0f m)",
-                           stamp, distance, c.max_map_extent));
+      return refuse(
+          format("scan at %.3f refused: the odometry is %.0f m from where the map "
+                 "started, beyond max_map_extent (%.0f m)",
+                 stamp, distance, c.max_map_extent));
     }
   }
 
@@ -135,7 +136,8 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
   if (result.update.processed && !engine_->mappingPaused()) {
     result.alarm = alarm_.update(result.update.open_space_conflict_added);
     conflict_log_.push_back(ConflictRecord{stamp, result.update.external_conflict_added,
-                                           result.update.conflict_mass_added, result.alarm});
+                                           result.update.conflict_mass_added, result.alarm,
+                                           result.update.contradiction_added});
   }
   return result;
 }

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <vector>
 
+#include "cell_support.h"
 #include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/core/sensor_model.h"
 #include "evidential_slam/core/slam_engine.h"
 #include "test_support.h"
-#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -27,23 +27,33 @@ std::vector<AnomalyCell> anomalyOf(const ScanAccumulator& acc, const EvidentialG
   return out;
 }
 
-// A hit on open floor: K = m̃(e) s(o), anomaly -log2(1 - K). Hits whose K is below 1/2, or with a
-// cell the map does not believe free within 2 cells, add none; clearing beams on free floor none.
+// A hit on open floor: K = m̃(e) s(o), anomaly -log2(1 - K). A hit counts where the map holds the
+// cell free (m̃(e) >= 1/2) and the endpoint lies in it (s(o) >= 0.35: 0.48 when it falls on the
+// cell's border, which K >= 1/2 used to leave out); not with a cell the map does not believe free
+// within 2 cells; clearing beams on free floor add none.
 TEST(ScanAnomaly, HitInOpenSpace) {
   EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
-  map.mutableCell(6, 0) = storedCell(0.7f, 0.2f);  // a wall cell
+  map.mutableCell(6, 0) = storedCell(0.7f, 0.2f);     // a wall cell
+  map.mutableCell(0, -6) = storedCell(0.05f, 0.45f);  // floor seen free, not confidently
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 16);
-  acc.add(0, 0, scanMass(0.8f, 0.0f));   // K = 0.792: 2.2655 bits
-  acc.add(-4, 0, scanMass(0.5f, 0.0f));  // K = 0.495 < 1/2
-  acc.add(4, 0, scanMass(0.8f, 0.0f));   // the wall cell is 2 away
-  acc.add(0, 4, scanMass(0.0f, 0.8f));   // a clearing beam agrees with the floor
+  acc.add(0, 0, scanMass(0.8f, 0.0f));    // K = 0.792: 2.2655 bits
+  acc.add(-4, 0, scanMass(0.48f, 0.0f));  // an endpoint on the cell's border: K = 0.4752
+  acc.add(-4, 4, scanMass(0.3f, 0.0f));   // the cell next to an endpoint: not the hit's cell
+  acc.add(4, 0, scanMass(0.8f, 0.0f));    // the wall cell is 2 away
+  acc.add(0, -6, scanMass(0.8f, 0.0f));   // m̃(e) = 0.45 < 1/2
+  acc.add(0, 4, scanMass(0.0f, 0.8f));    // a clearing beam agrees with the floor
   const std::vector<AnomalyCell> cells = anomalyOf(acc, map);
-  ASSERT_EQ(cells.size(), 1u);
-  EXPECT_EQ(cells[0].x, 0);
-  EXPECT_EQ(cells[0].y, 0);
-  EXPECT_NEAR(cells[0].bits, -std::log2(1.0 - 0.99 * 0.8), kBits);
-  EXPECT_NEAR(cells[0].bits, 2.2655, 1e-3);
+  ASSERT_EQ(cells.size(), 2u);
+  const AnomalyCell& a = cells[0].x == 0 ? cells[0] : cells[1];
+  const AnomalyCell& b = cells[0].x == 0 ? cells[1] : cells[0];
+  EXPECT_EQ(a.y, 0);
+  EXPECT_NEAR(a.bits, -std::log2(1.0 - 0.99 * 0.8), kBits);
+  EXPECT_NEAR(a.bits, 2.2655, 1e-3);
+  EXPECT_EQ(b.x, -4);
+  EXPECT_EQ(b.y, 0);
+  EXPECT_NEAR(b.bits, 0.9302, 1e-3);  // -log2(1 - 0.99 * 0.48)
+  EXPECT_NEAR(contradictionOf(cells), 0.792 + 0.4752, 1e-4);
 
   // Three cells from the wall the same hit counts; next to never-observed space it does not.
   ScanAccumulator far;
@@ -55,34 +65,62 @@ TEST(ScanAnomaly, HitInOpenSpace) {
   EXPECT_EQ(far_cells[0].x, 3);
 }
 
-// A cell the map holds occupied that the scan clears: K = m̃(o) s(e). Not when the scan itself
-// puts a surface (s(o) >= 0.05) within 2 cells of it: a beam grazing a wall it hits next to.
+// A cell the map holds occupied that a clearing beam crosses: K = m̃(o) s(e) >= 1/2 (a surface
+// cell held occupied without confidence does not count). Only through the obstacle: every
+// neighbour the map does not hold free is cleared too (a beam clipping the end of a door leaves
+// the rest of it as it was). Not when the scan itself puts a surface (s(o) >= 0.05) within 2
+// cells of it: a beam grazing a wall it hits next to.
 TEST(ScanAnomaly, PassThroughAnObstacle) {
   EvidentialGridMap map = filledMap(storedCell(0.0f, 0.99f));
-  for (int y = -1; y <= 1; ++y) map.mutableCell(0, y) = storedCell(0.9f, 0.05f);
-  map.mutableCell(0, 5) = storedCell(0.6f, 0.3f);  // occupied, but 0.6 * 0.8 < 1/2
+  for (int y = -1; y <= 1; ++y) map.mutableCell(0, y) = storedCell(0.9f, 0.05f);  // a door
+  map.mutableCell(0, 5) = storedCell(0.6f, 0.3f);   // occupied, but K = 0.48 < 1/2
+  map.mutableCell(0, 9) = storedCell(0.7f, 0.05f);  // a post: K = 0.7 s(e) = 0.56
+  map.mutableCell(9, 0) = storedCell(0.9f, 0.05f);
+  auto clear = [](ScanAccumulator* a, int y) {
+    for (int x = -5; x <= 5; ++x) a->add(x, y, scanMass(0.0f, 0.8f));
+  };
   ScanAccumulator acc;
   acc.reset(CellIndex{0, 0}, 16);
-  for (int x = -5; x <= 5; ++x) acc.add(x, 0, scanMass(0.0f, 0.8f));  // a beam through the door
+  for (int y = -1; y <= 1; ++y) clear(&acc, y);  // beams through the whole (opened) door
   acc.add(0, 5, scanMass(0.0f, 0.8f));
+  acc.add(0, 9, scanMass(0.0f, 0.8f));
+  acc.add(9, 0, scanMass(0.0f, 0.45f));  // near its own hit: not a clearing beam there
   std::vector<AnomalyCell> cells = anomalyOf(acc, map);
-  ASSERT_EQ(cells.size(), 1u);
-  EXPECT_EQ(cells[0].x, 0);
-  EXPECT_EQ(cells[0].y, 0);
-  EXPECT_NEAR(cells[0].bits, -std::log2(1.0 - 0.9 * 0.8), kBits);
+  ASSERT_EQ(cells.size(), 4u);
+  int door = 0;
+  for (const AnomalyCell& c : cells) {
+    EXPECT_EQ(c.x, 0);
+    if (c.y == 9) {
+      EXPECT_NEAR(c.bits, 1.1844, 1e-3);  // -log2(1 - 0.7 * 0.8)
+    } else {
+      EXPECT_LE(std::abs(c.y), 1);
+      EXPECT_NEAR(c.bits, -std::log2(1.0 - 0.9 * 0.8), kBits);
+      ++door;
+    }
+  }
+  EXPECT_EQ(door, 3);
 
-  // A hit two cells away (the wall the beam grazes before hitting it): nothing.
-  acc.add(0, -2, scanMass(0.1f, 0.0f));
-  EXPECT_TRUE(anomalyOf(acc, map).empty());
+  // One beam clipping the door's end cell: (0, 0) next to it is held occupied and not cleared.
+  ScanAccumulator clip;
+  clip.reset(CellIndex{0, 0}, 16);
+  clear(&clip, 1);
+  EXPECT_TRUE(anomalyOf(clip, map).empty());
+
+  // A hit two cells from the door (a beam grazing the wall it hits next to): nothing.
+  acc.reset(CellIndex{0, 0}, 16);
+  for (int y = -1; y <= 1; ++y) clear(&acc, y);
+  acc.add(2, -2, scanMass(0.1f, 0.0f));
+  acc.add(2, 2, scanMass(0.1f, 0.0f));
+  cells = anomalyOf(acc, map);
+  EXPECT_TRUE(cells.empty());
   // Three cells away, or a hit below the surface mass: counted again.
   ScanAccumulator farther;
   farther.reset(CellIndex{0, 0}, 16);
-  farther.add(0, 0, scanMass(0.0f, 0.8f));
-  farther.add(0, 3, scanMass(0.6f, 0.0f));
-  farther.add(1, 1, scanMass(0.04f, 0.0f));
+  for (int y = -1; y <= 1; ++y) clear(&farther, y);
+  farther.add(3, 3, scanMass(0.6f, 0.0f));
+  farther.add(1, 2, scanMass(0.04f, 0.0f));
   cells = anomalyOf(farther, map);
-  ASSERT_EQ(cells.size(), 1u);
-  EXPECT_EQ(cells[0].y, 0);
+  EXPECT_EQ(cells.size(), 4u);  // the door's three cells, and (3, 3) as a hit in open space
 }
 
 // The anomaly rules read the map before the scan: anomaly is what the update's conflict would be,

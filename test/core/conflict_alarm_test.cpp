@@ -5,11 +5,11 @@
 
 #include <cmath>
 
+#include "cell_support.h"
 #include "evidential_slam/core/conflict_alarm.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/sensor_model.h"
-#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -138,6 +138,7 @@ ConflictAlarmConfig smallConfig() {
   c.warmup_scans = 3;
   c.threshold_factor = 4.0;
   c.min_added = 1.0;
+  c.confirm_scans = 1;
   return c;
 }
 
@@ -188,19 +189,26 @@ TEST(ConflictAlarm, QuietDuringWarmupBelowFloorAndWhenDisabled) {
 }
 
 // The input is ~0 on a consistent run, so the baseline is 0 and the floor decides: with the
-// defaults (floor 5, factor 4) 4.9 stays quiet, 22 (a person beside the robot) alarms.
+// defaults (floor 5, factor 4, 2 scans to confirm) 4.9 stays quiet, one scan at 22 (a scan the
+// best particle placed wrong, a person passing) does not alarm, two in a row do.
 TEST(ConflictAlarm, ZeroBaselineLeavesItToTheFloor) {
   const ConflictAlarmConfig defaults;
   EXPECT_EQ(defaults.min_added, 5.0);
   EXPECT_EQ(defaults.threshold_factor, 4.0);
   EXPECT_EQ(defaults.baseline_scans, 50);
   EXPECT_EQ(defaults.warmup_scans, 10);
+  EXPECT_EQ(defaults.confirm_scans, 2);
   ConflictAlarm alarm(defaults);
   for (int i = 0; i < 9; ++i) EXPECT_FALSE(alarm.update(0.0).alarm);
   EXPECT_FALSE(alarm.update(30.0).alarm);   // 10th scan: 9 in the baseline, still warming up
   EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);  // median of {0 x 9, 30}
   EXPECT_FALSE(alarm.update(4.9).alarm);
-  const ConflictAlarmState s = alarm.update(22.0);
+  ConflictAlarmState s = alarm.update(22.0);
+  EXPECT_TRUE(s.above);
+  EXPECT_FALSE(s.alarm);
+  EXPECT_FALSE(alarm.update(0.0).alarm);  // a transient: quiet again
+  EXPECT_FALSE(alarm.update(22.0).alarm);
+  s = alarm.update(22.0);
   EXPECT_TRUE(s.alarm);
   EXPECT_TRUE(s.rising);
   EXPECT_DOUBLE_EQ(s.baseline, 0.0);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -277,6 +278,108 @@ TEST(GridmapSimulator, MovingObjectReplacesExactlyTheBearingWindowDuringItsInter
     EXPECT_EQ(replaced, during ? 23u : 0u) << i;
   }
   EXPECT_EQ(scans_with_object, 11u);  // 1.0, 1.1, ..., 2.0 s after the start
+}
+
+TEST(GridmapSimulator, WorldObjectsStopRaysWhilePresentAndNameTheRaysTheyStop) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.laser_rays = 181;
+  c.laser_x = 0.0;
+  // A disc of radius 0.5 crossing from (2, -3) to (2, 3) during [1.5, 2.5] s, at (2, 0), dead
+  // ahead of the robot (at the origin, facing +x), at 2.0 s; and a bar (a door panel) along y = 3
+  // from x = -1 to 1, 0.1 m thick, present until 1.2 s.
+  const fs::path objects = dir / "objects.txt";
+  test::writeText(objects,
+                  "# person, door\n"
+                  "disc 1.5 2.5 2 -3 2 3 0.5\n"
+                  "bar 0 1.2 -1 3 1 3 0.05\n");
+  c.objects = objects.string();
+  const auto scans = runAll(c, 20);  // stamps 1.0, 1.1, ..., 2.9 s
+  ASSERT_EQ(scans.size(), 20u);
+  for (const SimulatedScan& s : scans) {
+    ASSERT_EQ(s.object_hit.size(), 181u);
+    const size_t ahead = 90, left = 180;  // bearing 0 and +90 degrees
+    const bool disc_ahead = std::abs(s.stamp - 2.0) < 1e-6;
+    if (disc_ahead) {
+      EXPECT_EQ(s.object_hit[ahead], 0);
+      EXPECT_NEAR(s.scan.ranges[ahead], 1.5, 1e-5);  // the disc's near side
+    } else if (s.stamp < 1.5 - 1e-6 || s.stamp > 2.5 + 1e-6) {
+      EXPECT_EQ(s.object_hit[ahead], -1) << s.stamp;
+      EXPECT_NEAR(s.scan.ranges[ahead], kInnerWall, kResolution) << s.stamp;
+    }
+    if (s.stamp <= 1.2 + 1e-6) {
+      EXPECT_EQ(s.object_hit[left], 1) << s.stamp;
+      EXPECT_NEAR(s.scan.ranges[left], 2.95, 1e-5) << s.stamp;
+    } else {
+      EXPECT_EQ(s.object_hit[left], -1) << s.stamp;
+      EXPECT_NEAR(s.scan.ranges[left], kInnerWall, kResolution) << s.stamp;
+    }
+  }
+  // Rays not stopped by an object read as they would without the file.
+  GridmapSimulatorConfig none = c;
+  none.objects.clear();
+  const auto plain = runAll(none, 20);
+  for (size_t i = 0; i < scans.size(); ++i) {
+    for (size_t k = 0; k < 181; ++k) {
+      if (scans[i].object_hit[k] < 0) {
+        EXPECT_EQ(scans[i].scan.ranges[k], plain[i].scan.ranges[k]);
+      }
+    }
+  }
+}
+
+TEST(GridmapSimulator, ABadObjectsFileGivesAOneLineErrorNamingTheLine) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  const fs::path objects = dir / "objects.txt";
+  test::writeText(objects, "disc 0 1 0 0 1 1 0.3\nbox 0 1 0 0 1 1 0.3\n");
+  c.objects = objects.string();
+  GridmapSimulator sim(c);
+  std::string error;
+  EXPECT_FALSE(sim.load(&error));
+  EXPECT_NE(error.find("line 2"), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  test::writeText(objects, "disc 2 1 0 0 1 1 0.3\n");  // ends before it starts
+  GridmapSimulator sim2(c);
+  EXPECT_FALSE(sim2.load(&error));
+  EXPECT_NE(error.find("line 1"), std::string::npos) << error;
+}
+
+TEST(GridmapSimulator, TruthScansFileHoldsPosesRangesAndObjectHits) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.laser_rays = 5;
+  c.duration = 0.35;  // scans at 1.0 .. 1.3 s
+  const fs::path objects = dir / "objects.txt";
+  test::writeText(objects, "disc 0 100 2 0 2 0 0.5\n");
+  c.objects = objects.string();
+  const std::string rawlog = (dir / "sim.rawlog").string();
+  const std::string truth = (dir / "sim.scans.txt").string();
+  io::SimulationSummary summary;
+  std::string error;
+  ASSERT_TRUE(io::simulateToRawlog(c, rawlog, &summary, &error, truth)) << error;
+  EXPECT_EQ(summary.object_scans, summary.scans);
+  std::ifstream in(truth);
+  std::string line;
+  int lines = 0;
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    double t, x, y, a, lx, ly, la;
+    int n;
+    ASSERT_TRUE(f >> t >> x >> y >> a >> lx >> ly >> la >> n);
+    ASSERT_EQ(n, 5);
+    std::vector<double> r(5);
+    std::vector<int> k(5);
+    for (double& v : r) f >> v;
+    for (int& v : k) f >> v;
+    ASSERT_TRUE(static_cast<bool>(f));
+    EXPECT_NEAR(lx, c.laser_x, 1e-9);
+    EXPECT_EQ(k[2], 0);  // straight ahead: the disc, 2 - 0.5 - laser_x away
+    EXPECT_NEAR(r[2], 1.5 - c.laser_x, 1e-5);
+    EXPECT_EQ(k[0], -1);
+    ++lines;
+  }
+  EXPECT_EQ(lines, static_cast<int>(summary.scans));
 }
 
 // Steps a loaded simulator with velocity command (v, w) for `seconds` of scans.

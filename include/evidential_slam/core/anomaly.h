@@ -1,18 +1,21 @@
 // The anomaly layer: per cell, the evidence of scans that contradicts what a map held with
-// confidence, accumulated in bits like external conflict (EC) but only where the contradiction
-// cannot come from an ordinary surface:
-//   - a hit in open space: a scan puts an obstacle (s(o) >= 1/2) on a cell the map believes free
-//     (m̃(e) s(o) >= 1/2), with every cell within the forward model's hit window believed free too
-//     (the conflict alarm's open-space conflict, sensor_model.h): something appeared;
-//   - a pass through an obstacle: beams clear (s(e) >= 1/2) a cell the map believes occupied
-//     (m̃(o) s(e) >= 1/2), and the scan sees no surface within that window around it: something
-//     was removed (an opened door, a moved shelf).
-// A wall's surface cells are partly wall and partly free: beams grazing the wall clear them and
-// others hit them, which grows their EC at every pass. The scan hits the wall next to such a cell,
-// and the map holds the wall next to a hit on it, so neither rule flags them.
-// The anomaly of one update of a cell is -log2(1 - K), K the conflict of that rule
-// (m̃(e) s(o) or m̃(o) s(e)), EC's increment. It is read from the map before the scan, never fed
-// back into it.
+// confidence before the scan (never the merged masses after it: the m(∅) a contradiction adds is
+// e^{-λ} K, diluted on every cell that already conflicts), accumulated in bits like external
+// conflict (EC) but only where the contradiction cannot come from an ordinary surface:
+//   - a hit in open space: the map holds the cell free (m̃(e) >= 1/2), the scan's endpoint lies in
+//     it (s(o) >= 0.35), and every cell within the forward model's hit window is believed free
+//     too (m̃(e) > m̃(o)): something appeared, or the scan is placed where the map knew floor;
+//   - a pass through an obstacle: the map holds the cell occupied and a clearing beam crosses it
+//     with conflict K = m̃(o) s(e) >= 1/2, and the scan sees no surface within that window around
+//     it: something was removed (an opened door, a moved shelf), or the scan is misplaced.
+// After a kidnap the filter draws the true walls at its wrong pose: both at once, ghost walls in
+// the map's free space and beams through the walls it held. A wall's surface cells are partly
+// wall and partly free: beams grazing the wall clear them and others hit them, which grows their
+// EC at every pass. The scan hits the wall next to such a cell, and the map holds the wall (or has
+// never seen behind it) next to a hit on it, so neither rule flags them; range noise moves a hit
+// along its beam by less than the window. The anomaly of one update of a cell is -log2(1 - K),
+// K = m̃(e) s(o) or m̃(o) s(e), EC's increment there. It is read from the map before the scan,
+// never fed back into it.
 #pragma once
 
 #include <cstddef>
@@ -38,6 +41,10 @@ struct AnomalyCell {
 // `map`, with neighbourhoods `radius` cells around each cell (BeamModel::openSpaceRadius()).
 void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int radius,
                  std::vector<AnomalyCell>* out);
+
+// Σ K over `cells` (K = 1 - 2^-bits): how many cells' confident evidence one scan contradicted,
+// each weighted by how strongly (conflict.csv's contradiction_added).
+double contradictionOf(const std::vector<AnomalyCell>& cells);
 
 // Per-cell anomaly accumulated over scans (bits). Sparse: most cells never hold any.
 class AnomalyGrid {

@@ -1,8 +1,11 @@
 // Conflict alarm (beyond the paper, from its discussion of external conflict): each processed scan
 // adds some conflict to the map; a localisation failure or a change of the environment makes a
 // scan contradict the map far more than usual. The alarm compares what each scan added with a
-// running baseline (the median of recent non-alarming scans) and fires when it exceeds it by a
-// factor and a floor.
+// running baseline (the median of recent scans below the threshold) and fires when it exceeds it
+// by a factor and a floor on `confirm_scans` consecutive scans: a filter left lost by a kidnap
+// contradicts the map at every scan until it has rewritten it, while one scan the best particle
+// placed wrong is a transient (on generated clean runs and on the Intel log, many alarms
+// of single scans were such transients: docs/decisions.md#conflict-alarm-input).
 //
 // Its input is the conflict mass m(∅) the scan added in the map's open space
 // (ScanConflict::open_space_added): on cells where the scan puts an obstacle (m̃(e)s(o) >= 1/2)
@@ -35,8 +38,9 @@ struct ConflictAlarmState {
   double added = 0.0;     // what this scan added in open space (the alarm's input)
   double baseline = 0.0;  // running baseline before this scan
   double ratio = 0.0;     // added / baseline (0 while the baseline is 0)
-  bool alarm = false;     // this scan is above the threshold
-  bool rising = false;    // ... and the previous one was not: a new alarm
+  bool above = false;     // this scan is above the threshold
+  bool alarm = false;     // ... and so were the confirm_scans - 1 before it
+  bool rising = false;    // ... and the previous scan did not alarm: a new alarm
 };
 
 class ConflictAlarm {
@@ -53,7 +57,8 @@ class ConflictAlarm {
 
  private:
   ConflictAlarmConfig config_;
-  std::deque<double> window_;  // recent non-alarming values
+  std::deque<double> window_;  // recent values below the threshold
+  int above_ = 0;              // consecutive scans above the threshold, up to this one
   bool in_alarm_ = false;
 };
 

@@ -53,6 +53,10 @@ struct ScanConflict {
   // believed more free than occupied, m̃(e) > m̃(o). A correctly placed scan of a static world
   // adds (almost) none of it: its hits fall on or next to surfaces the map holds.
   double open_space_added = 0.0;
+  // Σ K over the cells whose confident evidence the scan contradicts, before the update
+  // (contradictionOf the scan's anomaly cells, anomaly.h): hits in open space and passes through
+  // obstacles, undiluted by the conflict already there (reported; not the alarm's input).
+  double contradiction = 0.0;
 };
 
 // Scratch for fusing one scan's beams cell by cell (Dempster's rule) before the single

@@ -79,6 +79,8 @@ struct GridmapSimulatorConfig {
   double moving_object_bearing_min = 0.0;  // ray whose bearing (rad, laser frame) lies in
   double moving_object_bearing_max = 0.0;  // [bearing_min, bearing_max]
   double moving_object_distance = 1.0;     // m
+  // Objects file (dynamic_objects.h): people, boxes, doors in the world frame; "" = none.
+  std::string objects;
 
   bool hasKidnap() const { return kidnap_time >= 0.0; }
   bool hasMovingObject() const { return moving_object_start >= 0.0; }
@@ -113,6 +115,8 @@ struct SimulatedScan {
   LaserScan scan;            // bearings right to left, valid = 0 for "no return"
   bool kidnapped = false;    // the kidnap happened just before this scan
   bool moving_object = false;
+  // Per ray, the index of the object (config.objects) it ended on, -1 for a wall or no return.
+  std::vector<int> object_hit;
   uint64_t collisions = 0;  // collisions so far: each time the robot's disc ran into a wall
   bool in_contact = false;  // a wall stopped the robot and it has not moved 1 cm away since
 };
@@ -199,13 +203,18 @@ struct SimulationSummary {
   double odometry_error = 0.0;       // m, |odometry - aligned truth| at the last scan
   bool kidnapped = false;            // the kidnap happened (it may come after the end)
   uint64_t moving_object_scans = 0;  // scans that saw the moving object
+  uint64_t object_scans = 0;         // scans with a ray ending on an object (config.objects)
   uint64_t collisions = 0;           // GridmapSimulator::collisions()
   bool stuck = false;                // the route ended early, held by a wall
 };
 
 // Runs `config` to the end into `rawlog_path` and its ground truth. False with a one-line error.
+// With `truth_scans_path`, also writes there per scan one line: stamp, true robot pose (x y phi),
+// laser pose on the robot (x y yaw), ray count n, n ranges (m, 0 = no return), then n object
+// indices (-1 = a wall): what scoring a run against the truth needs without reading the rawlog.
 bool simulateToRawlog(const GridmapSimulatorConfig& config, const std::string& rawlog_path,
-                      SimulationSummary* summary, std::string* error);
+                      SimulationSummary* summary, std::string* error,
+                      const std::string& truth_scans_path = "");
 
 }  // namespace io
 }  // namespace evidential_slam

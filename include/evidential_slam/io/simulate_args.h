@@ -15,6 +15,7 @@ struct SimulateOptions {
   GridmapSimulatorConfig config;
   std::string out;     // the rawlog to write; the ground truth goes to <out>.GT.txt
   bool quiet = false;  // no summary on stdout
+  std::string truth_scans;  // --truth-scans: per-scan truth file (simulateToRawlog); "" = none
 };
 
 // Process exit codes of evidential_slam_simulate.

@@ -32,6 +32,7 @@ struct ConflictRecord {
   double ec_added_bits = 0.0;
   double conflict_mass_added = 0.0;
   ConflictAlarmState alarm;
+  double contradiction_added = 0.0;  // ScanUpdate::contradiction_added (not the alarm's input)
 };
 
 // What became of one scan given to the session.
