@@ -36,9 +36,8 @@ struct Cursor {
   void enterAt(double t) {
     cx = static_cast<int>(std::floor(ox + t * dx));
     cy = static_cast<int>(std::floor(oy + t * dy));
-    const double adx = std::abs(dx), ady = std::abs(dy);
-    t_max_x = adx > 1e-12 ? (step_x > 0 ? cx + 1 - ox : ox - cx) / adx : kInf;
-    t_max_y = ady > 1e-12 ? (step_y > 0 ? cy + 1 - oy : oy - cy) / ady : kInf;
+    t_max_x = t_delta_x < kInf ? (step_x > 0 ? cx + 1 - ox : ox - cx) * t_delta_x : kInf;
+    t_max_y = t_delta_y < kInf ? (step_y > 0 ? cy + 1 - oy : oy - cy) * t_delta_y : kInf;
     t_enter = t;
   }
   double exitParameter() const { return std::min(t_max_x, t_max_y); }
@@ -285,16 +284,22 @@ double BeamLookup::logPlausibility(const BeamModel& model, const Pose2& sensor_i
                                    const LaserScan& beams, const Options& options,
                                    size_t* shorts) const {
   const Eigen::Vector2d origin = sensor_in_map.translation();
-  double sum = 0.0;
+  // The product of the plausibilities (each >= r), its log taken when it gets small: one log per
+  // few dozen beams instead of one per beam.
+  double sum = 0.0, product = 1.0;
   size_t n_short = 0;
   for (size_t i = 0; i < beams.ranges.size(); ++i) {
     const LookupBeam b =
         beam(model, origin, sensor_in_map.theta + beams.bearings[i], beams.ranges[i], options);
-    sum += std::log(b.plausibility);
+    product *= b.plausibility;
+    if (product < 1e-200) {
+      sum += std::log(product);
+      product = 1.0;
+    }
     n_short += b.short_reading ? 1 : 0;
   }
   if (shorts != nullptr) *shorts = n_short;
-  return sum;
+  return sum + std::log(product);
 }
 
 }  // namespace evidential_slam

@@ -56,7 +56,6 @@ struct Localizer::Models {
 };
 
 struct Localizer::Workspace {
-  TracedScan traced;
   ScanAccumulator accumulator;
 };
 
@@ -380,9 +379,10 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
                                   : std::min(stats_.min_particles_used, out.particles);
 
   // What this scan contradicts in the map, at the estimate.
+  // (weighAndAccumulate: the accumulateScan of traceScan in one traversal, storing no cells.)
   Workspace& ws = *workspaces_.front();
-  models.beam.traceScan(estimate_.mean.compose(scan.sensor_pose), scan, &ws.traced);
-  models.beam.accumulateScan(ws.traced, &ws.accumulator);
+  models.beam.weighAndAccumulate(estimate_.mean.compose(scan.sensor_pose), scan, map_,
+                                 &ws.accumulator, std::numeric_limits<int>::max());
   std::vector<AnomalyCell> cells;
   scanAnomaly(ws.accumulator, map_, models.beam.openSpaceRadius(), &cells);
   for (const AnomalyCell& c : cells) out.anomaly_added_bits += c.bits;
