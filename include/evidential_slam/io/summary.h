@@ -60,7 +60,7 @@ struct LocalizationSummary {
   double anomaly_bits = 0.0;          // Σ of the anomaly layer against the stored map
   uint64_t anomaly_cells = 0;         // cells with an anomaly
   uint64_t lookup_bytes = 0;          // laser_model_type beam: the lookup's memory (0: not built)
-  double lookup_build_s = 0.0;        // ... and its build time (wall)
+  double lookup_build_s = 0.0;        // ... and its build time (CPU s)
 };
 
 struct RunSummary {

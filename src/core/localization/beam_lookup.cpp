@@ -107,7 +107,11 @@ BeamLookup::BeamLookup(const EvidentialGridMap& map, bool conflict_as_unknown)
       m.occupied = static_cast<float>(mo);
       m.unknown = static_cast<float>(mu);
       m.observed = c.observed() ? 1 : 0;
-      m.free = m.observed != 0 && pignistic(c) < 0.25 && nonSpecificity(c) < 0.5 ? 1 : 0;
+      // NS = m(Θ), which is m̃(Θ) unless the cell conflicts (nonSpecificity, without its exp).
+      m.free = m.observed != 0 && pignistic(c) < 0.25 &&
+                       (c.conflicted() ? nonSpecificity(c) : c.unknown()) < 0.5
+                   ? 1
+                   : 0;
       opaque[static_cast<size_t>(y) * w + x] = m.occupied >= kOpaque ? 1 : 0;
       uncertain[static_cast<size_t>(y) * w + x] =
           m.observed == 0 || m.occupied >= kCertain || m.unknown >= kCertain ? 1 : 0;

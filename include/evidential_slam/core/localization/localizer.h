@@ -67,7 +67,7 @@ struct LocalizerStats {
   size_t max_particles_used = 0;
   size_t min_particles_used = 0;  // over the processed scans (0 before the first)
   size_t lookup_bytes = 0;        // the beam model's lookup (laser_model_type beam), once built
-  double lookup_build_s = 0.0;    // its build time (wall)
+  double lookup_build_s = 0.0;    // its build time (process CPU s)
   uint64_t anomaly_traces = 0;    // updates whose scan was traced for the anomaly
 };
 
