@@ -226,7 +226,16 @@ LookupBeam BeamLookup::beam(const BeamModel& model, const Eigen::Vector2d& origi
       c.next();
     }
   }
-  if (!started) c.enterAt(std::max(0.0, t_window - 0.75));
+  if (!started) {
+    c.enterAt(std::max(0.0, t_window - 0.75));
+  } else if (c.t_enter >= leave && c.t_enter < t_window - 0.75) {
+    // The ray left the box before its window: the cells up to it are vacuous (nothing opaque).
+    if (!options.unobserved_collects) {
+      out.plausibility = r;  // and the window's cells, never observed, collect nothing
+      return out;
+    }
+    c.enterAt(t_window - 0.75);
+  }
 
   // The hit window, cell by cell as BeamModel traces it (ForwardPass::visit), but for runs of
   // certain cells (observed, m̃(o) and m̃(Θ) below kCertain), which it jumps over: they would

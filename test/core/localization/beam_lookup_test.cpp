@@ -153,6 +153,20 @@ TEST(BeamLookup, NeverObservedEndsWeighOnlyTheRandomPartAndShortReadingsTheirRat
   const LookupBeam wall = lookup.beam(model, {0.55, 0.55}, 0.0, 0.975, options);
   EXPECT_FALSE(wall.short_reading);
   EXPECT_GT(wall.plausibility, 0.5);
+
+  // A beam leaving the box 0.45 m out and ending 3 m out weighs r; read as traced, as the traced
+  // model weighs it (the vacuous cells of its window make it plausible).
+  EXPECT_NEAR(lookup.beam(model, {0.55, 0.55}, M_PI / 2, 3.0, BeamLookup::Options()).plausibility,
+              r, 1e-9);
+  LaserScan up;
+  up.max_range = 30.0f;
+  up.ranges = {3.0f};
+  up.bearings = {0.0f};
+  up.valid = {1};
+  const double expected = std::exp(model.logPlausibility(map, Pose2(0.55, 0.55, M_PI / 2), up, 1));
+  EXPECT_GT(expected, 0.5);
+  EXPECT_NEAR(lookup.beam(model, {0.55, 0.55}, M_PI / 2, 3.0, traced).plausibility, expected,
+              1e-3 * expected);
 }
 
 }  // namespace
