@@ -277,6 +277,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   }
   BeamLookup::Options lookup_options;
   lookup_options.short_rate = short_rate_;
+  lookup_options.unobserved_collects = !config_.laser_unobserved_random_only;
   out.short_rate = short_rate_;
 
   // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples

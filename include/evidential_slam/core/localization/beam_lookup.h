@@ -10,11 +10,11 @@
 // second distance field), which hold nothing it could collect. Directions are exact (no angular
 // bins, unlike a lookup table or CDDT): docs/decisions.md.
 //
-// Two evidential readings on top of the traced model's plausibility (options, both on in the
-// Localizer):
-// - a beam ending in never-observed space is weighed by the random component only: never-observed
-//   cells collect nothing in the hit window (the traced model lets their m(Θ) = 1 collect, which
-//   makes space nobody saw the most plausible place for a beam to end);
+// Two readings on top of the traced model's plausibility (Options):
+// - unobserved_collects false: a beam ending in never-observed space is weighed by the random
+//   component only (never-observed cells collect nothing in the hit window; the traced model lets
+//   their m(Θ) = 1 collect). The Localizer's default is the traced reading
+//   (laser_unobserved_random_only false: docs/decisions.md);
 // - a beam ending short, in confident free space with no opaque cell before it, is an unexpected
 //   obstacle (amcl's "short" component, the anomaly layer's hit in open space): it is plausible
 //   with the rate of such beams, `short_rate`, which the Localizer measures at its estimate rather
