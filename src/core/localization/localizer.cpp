@@ -277,7 +277,6 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   }
   BeamLookup::Options lookup_options;
   lookup_options.short_rate = short_rate_;
-  lookup_options.unobserved_collects = !config_.laser_unobserved_random_only;
   out.short_rate = short_rate_;
 
   // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples
@@ -285,6 +284,9 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   // global localization has not found the pose is each sample matched, so that a cloud as sparse
   // as max_particles over the whole floor reaches the matcher's basin around the true pose.
   if (searching_) searching_ = cloudSpread() > slam_.matcher.search_radius;
+  // While a global localization searches, the cloud covers unexplored space too, where ignorance
+  // must not count as support: never-observed ends weigh r then (docs/decisions.md).
+  lookup_options.unobserved_collects = !config_.laser_unobserved_random_only && !searching_;
   const bool match_each = searching_ && !endpoints.empty();
   const size_t n = particles_.size();
   std::vector<double> log_pl(n, 0.0), log_weight(n, 0.0);
