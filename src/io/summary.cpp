@@ -108,6 +108,8 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
     o["real_time_factor_cpu"] = l.real_time_factor_cpu;
     o["anomaly_bits"] = l.anomaly_bits;
     o["anomaly_cells"] = l.anomaly_cells;
+    o["lookup_bytes"] = l.lookup_bytes;
+    o["lookup_build_s"] = l.lookup_build_s;
     j["localization"] = o;
   }
 

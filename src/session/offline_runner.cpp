@@ -366,6 +366,8 @@ int Run::execute() {
     loc.real_time_factor_cpu = slam_cpu_s > 0.0 ? loc.log_duration_s / slam_cpu_s : 0.0;
     loc.anomaly_bits = localizer.anomaly().total();
     loc.anomaly_cells = localizer.anomaly().size();
+    loc.lookup_bytes = l.lookup_bytes;
+    loc.lookup_build_s = l.lookup_build_s;
     summary_.localization = loc;
     summary_.scans_processed = l.scans_processed;
     summary_.resamplings = l.resamplings;

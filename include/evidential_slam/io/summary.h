@@ -59,6 +59,8 @@ struct LocalizationSummary {
   double real_time_factor_cpu = 0.0;  // log_duration_s / cpu_time_s
   double anomaly_bits = 0.0;          // Σ of the anomaly layer against the stored map
   uint64_t anomaly_cells = 0;         // cells with an anomaly
+  uint64_t lookup_bytes = 0;          // laser_model_type beam: the lookup's memory (0: not built)
+  double lookup_build_s = 0.0;        // ... and its build time (CPU s)
 };
 
 struct RunSummary {

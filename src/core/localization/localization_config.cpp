@@ -14,9 +14,11 @@ bool LocalizationConfig::isValid(std::string* why) const {
     if (why != nullptr) *why = "min_particles must not be above max_particles";
     return false;
   }
-  if (laser_model_type != "beam" && laser_model_type != "likelihood_field") {
+  if (laser_model_type != "beam" && laser_model_type != "beam_traced" &&
+      laser_model_type != "likelihood_field") {
     if (why != nullptr) {
-      *why = "laser_model_type must be beam or likelihood_field, not '" + laser_model_type + "'";
+      *why = "laser_model_type must be beam, beam_traced or likelihood_field, not '" +
+             laser_model_type + "'";
     }
     return false;
   }

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
 
+#include "evidential_slam/core/localization/beam_lookup.h"
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/measures.h"
@@ -33,6 +35,9 @@ bool finite(const Pose2& p) {
 // Random streams of the localizer (Rng::forStream's first index), apart from the updates' (the
 // update count).
 constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
+// The short readings' rate is a running mean with this weight on the newest update (about the
+// last ten updates: a crowd that comes or goes is followed within a few metres).
+constexpr double kShortRateWeight = 0.1;
 }  // namespace
 
 // The models for one declared range noise (as the SLAM's, without its long-step settings).
@@ -41,9 +46,9 @@ struct Localizer::Models {
       : sigma(range_sigma),
         sensor(slam.sensor.forSensorNoise(range_sigma, resolution)),
         beam(sensor, resolution),
-        matcher(slam.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied,
-                                            resolution),
-                sensor, resolution) {}
+        matcher(
+            slam.matcher.forSensorNoise(range_sigma, beam.inverseMass(0.0).occupied, resolution),
+            sensor, resolution) {}
   float sigma;
   SensorModelConfig sensor;
   BeamModel beam;
@@ -51,7 +56,6 @@ struct Localizer::Models {
 };
 
 struct Localizer::Workspace {
-  TracedScan traced;
   ScanAccumulator accumulator;
 };
 
@@ -74,6 +78,8 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   free_cells_.clear();
   free_cells_built_ = false;
   field_.reset();
+  lookup_.reset();
+  short_rate_ = 0.0;
   particles_.clear();
   anomaly_.clear();
   trajectory_.clear();
@@ -148,13 +154,12 @@ bool Localizer::resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, st
   if (values.minCoeff() < -1e-9 * std::max(1.0, values.maxCoeff())) {
     return refuse(why, "the covariance is not positive semi-definite");
   }
-  const Eigen::Matrix3d root =
-      eig.eigenvectors() * values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  const Eigen::Matrix3d root = eig.eigenvectors() * values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
   restartFilter();
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   drawKld(static_cast<size_t>(config_.max_particles), [&] {
-    const Eigen::Vector3d d = root * Eigen::Vector3d(rng.gaussian(), rng.gaussian(),
-                                                     rng.gaussian());
+    const Eigen::Vector3d d =
+        root * Eigen::Vector3d(rng.gaussian(), rng.gaussian(), rng.gaussian());
     return Pose2(pose.x + d.x(), pose.y + d.y(), pose.theta + d.z());
   });
   computeEstimate();
@@ -198,8 +203,8 @@ bool Localizer::onMappedFloor(const Pose2& pose) const {
 }
 
 Pose2 Localizer::randomFreePose(Rng* rng) const {
-  const size_t i = std::min(free_cells_.size() - 1,
-                            static_cast<size_t>(rng->uniform() * free_cells_.size()));
+  const size_t i =
+      std::min(free_cells_.size() - 1, static_cast<size_t>(rng->uniform() * free_cells_.size()));
   const double res = map_.resolution();
   return Pose2((free_cells_[i].x + rng->uniform()) * res, (free_cells_[i].y + rng->uniform()) * res,
                (2.0 * rng->uniform() - 1.0) * M_PI);
@@ -253,19 +258,35 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   const std::vector<MatchPoint> endpoints =
       slam_.matcher.enabled ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
   const LikelihoodField* field = nullptr;
+  const BeamLookup* lookup = nullptr;
   if (config_.likelihoodField()) {
     // Computed once per map (and cap): the map never changes while localizing.
     if (!field_) {
       field_ = std::make_unique<LikelihoodField>(map_, config_.laser_likelihood_max_dist);
     }
     field = field_.get();
+  } else if (!config_.beamTraced()) {
+    const bool conflict_as_unknown = models.sensor.forward_conflict_as_unknown;
+    if (!lookup_ || lookup_->conflictAsUnknown() != conflict_as_unknown) {
+      const std::clock_t t0 = std::clock();  // CPU time: the build is single-threaded
+      lookup_ = std::make_unique<BeamLookup>(map_, conflict_as_unknown);
+      stats_.lookup_build_s = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
+      stats_.lookup_bytes = lookup_->memoryBytes();
+    }
+    lookup = lookup_.get();
   }
+  BeamLookup::Options lookup_options;
+  lookup_options.short_rate = short_rate_;
+  out.short_rate = short_rate_;
 
   // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples
   // onto the matcher's optimum and cost accuracy while tracking (docs/decisions.md). Only while a
   // global localization has not found the pose is each sample matched, so that a cloud as sparse
   // as max_particles over the whole floor reaches the matcher's basin around the true pose.
   if (searching_) searching_ = cloudSpread() > slam_.matcher.search_radius;
+  // While a global localization searches, the cloud covers unexplored space too, where ignorance
+  // must not count as support: never-observed ends weigh r then (docs/decisions.md).
+  lookup_options.unobserved_collects = !config_.laser_unobserved_random_only && !searching_;
   const bool match_each = searching_ && !endpoints.empty();
   const size_t n = particles_.size();
   std::vector<double> log_pl(n, 0.0), log_weight(n, 0.0);
@@ -285,7 +306,9 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
         log_pl[k] = score.log_likelihood;
         log_weight[k] = std::log(score.amcl_weight);
       } else {
-        log_pl[k] = models.beam.logPlausibility(map_, sensor, weighed, 1);
+        log_pl[k] = lookup != nullptr
+                        ? lookup->logPlausibility(models.beam, sensor, weighed, lookup_options)
+                        : models.beam.logPlausibility(map_, sensor, weighed, 1);
         log_weight[k] = exponent * log_pl[k];
       }
     }
@@ -308,15 +331,19 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     w_avg += particles_[k].weight * std::exp(per_beam);
     mean_pl += particles_[k].weight * per_beam;
     particles_[k].weight =
-        counts(k) ? std::exp(std::log(particles_[k].weight) + log_weight[k] - max_log)
-                  : 0.0;
+        counts(k) ? std::exp(std::log(particles_[k].weight) + log_weight[k] - max_log) : 0.0;
     sum += particles_[k].weight;
   }
   if (!(sum > 0.0) || !std::isfinite(sum)) {  // every weighed particle had lost its weight
     for (LocalizationParticle& p : particles_) p.weight = 1.0;
     sum = static_cast<double>(n);
   }
-  for (LocalizationParticle& p : particles_) p.weight /= sum;
+  double sum_sq = 0.0;
+  for (LocalizationParticle& p : particles_) {
+    p.weight /= sum;
+    sum_sq += p.weight * p.weight;
+  }
+  out.effective_particles = sum_sq > 0.0 ? 1.0 / sum_sq : 0.0;
   out.mean_log_plausibility = mean_pl;
   if (used > 0.0) {
     w_slow_ = w_slow_ == 0.0 ? w_avg : w_slow_ + config_.recovery_alpha_slow * (w_avg - w_slow_);
@@ -326,7 +353,11 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   ++stats_.scans_processed;
   stats_.particle_updates += n;
   out.processed = true;
-  if (++updates_since_resample_ >= config_.resample_interval) {
+  // amcl's selective resampling: the weights are kept while they still spread over at least half
+  // the particles (resampling a cloud the scan did not single out only loses its diversity).
+  if (++updates_since_resample_ >= config_.resample_interval &&
+      (!config_.selective_resampling ||
+       out.effective_particles < 0.5 * static_cast<double>(particles_.size()))) {
     updates_since_resample_ = 0;
     resample(&out);
   }
@@ -336,6 +367,13 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     estimate_.mean = models.matcher.refine(map_, estimate_.mean, endpoints);
     ++stats_.scan_matches;
   }
+  // The short readings at the estimate: the rate the beam model gives them at the next update.
+  if (lookup != nullptr && used > 0.0) {
+    size_t shorts = 0;
+    lookup->logPlausibility(models.beam, estimate_.mean.compose(weighed.sensor_pose), weighed,
+                            lookup_options, &shorts);
+    short_rate_ += kShortRateWeight * (static_cast<double>(shorts) / used - short_rate_);
+  }
   out.particles = particles_.size();
   stats_.max_particles_used = std::max(stats_.max_particles_used, out.particles);
   stats_.min_particles_used = stats_.min_particles_used == 0
@@ -343,9 +381,10 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
                                   : std::min(stats_.min_particles_used, out.particles);
 
   // What this scan contradicts in the map, at the estimate.
+  // (weighAndAccumulate: the accumulateScan of traceScan in one traversal, storing no cells.)
   Workspace& ws = *workspaces_.front();
-  models.beam.traceScan(estimate_.mean.compose(scan.sensor_pose), scan, &ws.traced);
-  models.beam.accumulateScan(ws.traced, &ws.accumulator);
+  models.beam.weighAndAccumulate(estimate_.mean.compose(scan.sensor_pose), scan, map_,
+                                 &ws.accumulator, std::numeric_limits<int>::max());
   std::vector<AnomalyCell> cells;
   scanAnomaly(ws.accumulator, map_, models.beam.openSpaceRadius(), &cells);
   for (const AnomalyCell& c : cells) out.anomaly_added_bits += c.bits;
@@ -380,8 +419,8 @@ void Localizer::resample(LocalizationUpdate* update) {
       return randomFreePose(&rng);
     }
     const double u = rng.uniform() * total;
-    const size_t i = static_cast<size_t>(
-        std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+    const size_t i = static_cast<size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) -
+                                         cumulative.begin());
     return previous[std::min(i, previous.size() - 1)].pose;
   });
   if (random_fraction > 0.0) w_slow_ = w_fast_ = 0.0;  // as amcl: do not spiral into randomness
@@ -408,9 +447,8 @@ double Localizer::cloudSpread() const {
   }
   Eigen::Matrix2d cov;
   cov << xx / w, xy / w, xy / w, yy / w;
-  return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov)
-                                     .eigenvalues()
-                                     .maxCoeff()));
+  return std::sqrt(
+      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff()));
 }
 
 void Localizer::computeEstimate() {
@@ -428,8 +466,8 @@ void Localizer::computeEstimate() {
   const auto indices = [&](const Pose2& p, int64_t* ix, int64_t* iy, int64_t* ia) {
     *ix = static_cast<int64_t>(std::floor(p.x / config_.kld_bin_xy));
     *iy = static_cast<int64_t>(std::floor(p.y / config_.kld_bin_xy));
-    *ia = static_cast<int64_t>(
-        std::floor((normalizeAngle(p.theta) + M_PI) / config_.kld_bin_angle));
+    *ia =
+        static_cast<int64_t>(std::floor((normalizeAngle(p.theta) + M_PI) / config_.kld_bin_angle));
   };
   const auto keyOf = [&](int64_t ix, int64_t iy, int64_t ia) {
     ia = ((ia % angle_bins) + angle_bins) % angle_bins;
@@ -472,8 +510,8 @@ void Localizer::computeEstimate() {
       }
     }
   }
-  const int best = static_cast<int>(
-      std::max_element(cluster_weight.begin(), cluster_weight.end()) - cluster_weight.begin());
+  const int best = static_cast<int>(std::max_element(cluster_weight.begin(), cluster_weight.end()) -
+                                    cluster_weight.begin());
   double w = 0.0, x = 0.0, y = 0.0, s = 0.0, c = 0.0;
   for (size_t i = 0; i < particles_.size(); ++i) {
     if (cells[bin_of[i]].cluster != best) continue;

@@ -8,16 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "../test_support.h"
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/localization/localizer.h"
 #include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/slam_engine.h"
-#include "../test_support.h"
 
 namespace evidential_slam {
 namespace {
-
 
 // n(k) = ceil((k - 1) / (2 err) (1 - 2/(9(k - 1)) + sqrt(2/(9(k - 1))) z)^3), by hand:
 // k = 2, err = 0.01, z = 0.99: x = 1 - 0.2222222 + 0.4714045 * 0.99 = 1.2444689, 50 x^3 = 96.37.
@@ -25,9 +24,9 @@ namespace {
 TEST(KldSampling, SampleLimitByHand) {
   EXPECT_EQ(kldSampleLimit(2, 0.01, 0.99, 1, 100000), 97u);
   EXPECT_EQ(kldSampleLimit(11, 0.01, 3.0, 1, 100000), 1447u);
-  EXPECT_EQ(kldSampleLimit(2, 0.01, 0.99, 100, 5000), 100u);  // the floor
+  EXPECT_EQ(kldSampleLimit(2, 0.01, 0.99, 100, 5000), 100u);   // the floor
   EXPECT_EQ(kldSampleLimit(11, 0.01, 3.0, 100, 1000), 1000u);  // the ceiling
-  EXPECT_EQ(kldSampleLimit(1, 0.01, 0.99, 100, 5000), 100u);  // one bin: the floor
+  EXPECT_EQ(kldSampleLimit(1, 0.01, 0.99, 100, 5000), 100u);   // one bin: the floor
   EXPECT_EQ(kldSampleLimit(0, 0.01, 0.99, 100, 5000), 100u);
   // More bins, more samples; a larger error allowed, fewer.
   EXPECT_LT(kldSampleLimit(20, 0.01, 0.99, 1, 100000), kldSampleLimit(40, 0.01, 0.99, 1, 100000));
@@ -148,6 +147,7 @@ LocalizationConfig localizationConfig(
   c.update_min_d = 0.1;
   c.update_min_a = 0.2;
   c.resample_interval = 1;
+  c.selective_resampling = false;  // resampled at every update (SelectiveResampling tests it)
   return c;
 }
 
@@ -240,6 +240,79 @@ TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
 // so the cloud of 2000 takes a few updates more to shrink.
 TEST(Localizer, LikelihoodFieldGlobalLocalizationInAnAsymmetricRoom) {
   globalLocalization("likelihood_field", 8);
+}
+
+// The ray-traced beam model (laser_model_type beam_traced, the lookup's reference) converges as
+// the lookup does.
+TEST(Localizer, TracedBeamModelConvergesFromASpreadStart) {
+  convergesFromASpreadStart("beam_traced", 8, 4);
+}
+
+// The beam model builds its lookup once, at the first update, and reports its size.
+TEST(Localizer, BeamModelBuildsItsLookupOnce) {
+  Localizer loc(localizationConfig(), slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  ASSERT_TRUE(loc.resetAt(inMap(Pose2(0, 0, 0)), Eigen::Matrix3d::Identity() * 1e-4, nullptr));
+  EXPECT_EQ(loc.stats().lookup_bytes, 0u);
+  loc.processScan(Pose2(0, 0, 0), blockRoomScan(Pose2(0, 0, 0), 1.0, true));
+  const size_t bytes = loc.stats().lookup_bytes;
+  const CellBox box = loc.map().observedBox();
+  EXPECT_GE(bytes, static_cast<size_t>(box.width()) * box.height() * 10u);  // masses, 2 fields
+  EXPECT_GT(loc.stats().lookup_build_s, 0.0);
+  loc.processScan(Pose2(0.2, 0, 0), blockRoomScan(Pose2(0.2, 0, 0), 1.1, true));
+  EXPECT_EQ(loc.stats().lookup_bytes, bytes);
+}
+
+// amcl's selective resampling: a scan without a hit beam weighs every particle alike (N_eff = N),
+// so the cloud is not resampled; a scan that singles out the pose is. Without it both are.
+TEST(Localizer, SelectiveResamplingOnlyWhenTheWeightsConcentrate) {
+  for (const bool selective : {true, false}) {
+    LocalizationConfig c = localizationConfig();
+    c.selective_resampling = selective;
+    Localizer loc(c, slamConfig());
+    ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    cov.diagonal() << 0.04, 0.04, 0.02;
+    ASSERT_TRUE(loc.resetAt(inMap(Pose2(0, 0, 0)), cov, nullptr));
+    LaserScan blind = blockRoomScan(Pose2(0, 0, 0), 1.0, true);
+    for (uint8_t& v : blind.valid) v = 0;  // no returns: nothing to weigh
+    const double drawn = static_cast<double>(loc.particles().size());
+    const LocalizationUpdate flat = loc.processScan(Pose2(0, 0, 0), blind);
+    ASSERT_TRUE(flat.processed);
+    EXPECT_NEAR(flat.effective_particles, drawn, 1e-6 * drawn);
+    EXPECT_EQ(flat.resampled, !selective);
+    const LocalizationUpdate sharp =
+        loc.processScan(Pose2(0.2, 0, 0), blockRoomScan(Pose2(0.2, 0, 0), 1.1, true));
+    ASSERT_TRUE(sharp.processed);
+    EXPECT_TRUE(sharp.resampled);
+  }
+}
+
+// Short readings: on the map of the room without the block, the block's beams end short in
+// confident free space. Their rate, measured at the estimate, rises to about the block's share of
+// the weighed beams, and the pose is still tracked; in the room as mapped it stays near 0.
+TEST(Localizer, ShortReadingsRateFollowsAnUnexpectedObstacle) {
+  const Route r = route(40);
+  double rates[2] = {0.0, 0.0};
+  for (const bool block_in_map : {true, false}) {
+    Localizer loc(localizationConfig(), slamConfig());
+    ASSERT_TRUE(loc.setMap(roomMap(block_in_map), nullptr));
+    ASSERT_TRUE(loc.resetAt(inMap(r.truth[0]), Eigen::Matrix3d::Identity() * 1e-3, nullptr));
+    double rate = 0.0;
+    int updates = 0;
+    for (size_t i = 0; i < r.truth.size(); ++i) {
+      const LocalizationUpdate u =
+          loc.processScan(r.odometry[i], blockRoomScan(r.truth[i], 1.0 + 0.1 * i, true));
+      EXPECT_LT(distance(loc.estimate().mean, inMap(r.truth[i])), 0.07) << i;
+      if (u.processed && i >= 20) {
+        rate += u.short_rate;
+        ++updates;
+      }
+    }
+    rates[block_in_map ? 0 : 1] = rate / std::max(1, updates);
+  }
+  EXPECT_LT(rates[0], 0.02);
+  EXPECT_GT(rates[1], 0.03);
 }
 
 // Scans within update_min_d and update_min_a of the last update only move the estimate by the
@@ -365,8 +438,8 @@ TEST(Localizer, LikelihoodFieldWeighsTheBeams) {
   const LocalizationConfig config = localizationConfig("likelihood_field");
   const SensorModelConfig sensor = slam.sensor.forSensorNoise(0.0, with_block.resolution());
   const size_t hits = ParticleFilter::hitBeamSubset(scan, sensor, 1).ranges.size();
-  const int stride = static_cast<int>(
-      std::ceil(static_cast<double>(hits) / config.laser_max_beams));
+  const int stride =
+      static_cast<int>(std::ceil(static_cast<double>(hits) / config.laser_max_beams));
   const LaserScan weighed = ParticleFilter::hitBeamSubset(scan, sensor, stride);
   ASSERT_EQ(weighed.ranges.size(), 30u);
   const auto expected = [&](const EvidentialGridMap& map, double cap) {
@@ -410,8 +483,8 @@ TEST(Localizer, LikelihoodFieldWeightsAreAmclsUntempered) {
   config.resample_interval = 2;
   const SensorModelConfig sensor = slam.sensor.forSensorNoise(0.0, map.resolution());
   const size_t hits = ParticleFilter::hitBeamSubset(scan, sensor, 1).ranges.size();
-  const int stride = static_cast<int>(
-      std::ceil(static_cast<double>(hits) / config.laser_max_beams));
+  const int stride =
+      static_cast<int>(std::ceil(static_cast<double>(hits) / config.laser_max_beams));
   const LaserScan weighed = ParticleFilter::hitBeamSubset(scan, sensor, stride);
   Localizer loc(config, slam);
   ASSERT_TRUE(loc.setMap(map, nullptr));
@@ -480,7 +553,7 @@ TEST(Localizer, RefusesBadInput) {
   c = LocalizationConfig();
   c.laser_model_type = "field";
   EXPECT_FALSE(c.isValid(&why));
-  EXPECT_EQ(why, "laser_model_type must be beam or likelihood_field, not 'field'");
+  EXPECT_EQ(why, "laser_model_type must be beam, beam_traced or likelihood_field, not 'field'");
   c = LocalizationConfig();
   c.laser_z_hit = c.laser_z_rand = 0.0;
   EXPECT_FALSE(c.isValid(&why));

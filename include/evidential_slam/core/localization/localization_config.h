@@ -12,10 +12,11 @@ struct LocalizationConfig {
   ES_LOCALIZATION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
 
   // False, with the first offending parameter in `why`, outside a row's range, when
-  // min_particles is above max_particles, laser_model_type is neither beam nor likelihood_field,
-  // or laser_z_hit + laser_z_rand is 0.
+  // min_particles is above max_particles, laser_model_type is not beam, beam_traced or
+  // likelihood_field, or laser_z_hit + laser_z_rand is 0.
   bool isValid(std::string* why) const;
   bool likelihoodField() const { return laser_model_type == "likelihood_field"; }
+  bool beamTraced() const { return laser_model_type == "beam_traced"; }
 };
 
 }  // namespace evidential_slam

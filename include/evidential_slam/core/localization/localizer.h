@@ -2,10 +2,12 @@
 // only; each update samples the odometry motion model (the proposal, as amcl's; after a global
 // localization, until the cloud has narrowed to the scan matcher's search radius, each sample is
 // also scan-matched), weighs the samples on at most laser_max_beams hit beams by
-// laser_model_type's model: likelihood_field (LikelihoodField, computed once per map; amcl's
-// weight 1 + Σ p^3) or beam (the evidential forward model, BeamModel, tempered like the SLAM's
-// weights) and never writes the map. Every
-// resample_interval updates the particles are resampled with KLD-sampling, which adapts their
+// laser_model_type's model: beam (the evidential forward model on a BeamLookup built once per map,
+// tempered like the SLAM's weights), beam_traced (the same model ray traced, BeamModel) or
+// likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 + Σ p^3), and never
+// writes the map. Every resample_interval updates (with selective_resampling, only when the
+// effective sample size has dropped below half) the particles are resampled with KLD-sampling,
+// which adapts their
 // number to the spread of the cloud between min_particles and max_particles; with
 // recovery_alpha_slow/_fast, random poses from the map's free space are added when the scans'
 // plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
@@ -31,6 +33,7 @@
 
 namespace evidential_slam {
 
+class BeamLookup;
 class LikelihoodField;
 class Rng;
 class WorkerPool;
@@ -46,10 +49,12 @@ struct LocalizationUpdate {
   bool rejected = false;   // unusable scan or odometry, or no particles yet; `why` says why
   std::string why;
   bool resampled = false;
-  size_t particles = 0;               // after this scan
+  size_t particles = 0;                // after this scan
   double mean_log_plausibility = 0.0;  // per weighed beam, over the particles (processed scans)
-  size_t random_particles = 0;        // drawn from free space by the recovery at this scan
-  double anomaly_added_bits = 0.0;    // the anomaly this scan added at the estimate
+  double effective_particles = 0.0;    // N_eff = 1 / Σ w² after the weighing (processed scans)
+  double short_rate = 0.0;             // beam: the short readings' rate used for this scan
+  size_t random_particles = 0;         // drawn from free space by the recovery at this scan
+  double anomaly_added_bits = 0.0;     // the anomaly this scan added at the estimate
 };
 
 struct LocalizerStats {
@@ -61,6 +66,9 @@ struct LocalizerStats {
   uint64_t scan_matches = 0;      // scan matches of the estimate (one per processed scan at most)
   size_t max_particles_used = 0;
   size_t min_particles_used = 0;  // over the processed scans (0 before the first)
+  size_t lookup_bytes = 0;        // the beam model's lookup (laser_model_type beam), once built
+  double lookup_build_s = 0.0;    // its build time (process CPU s)
+  uint64_t anomaly_traces = 0;    // updates whose scan was traced for the anomaly
 };
 
 class Localizer {
@@ -141,6 +149,10 @@ class Localizer {
   std::vector<LocalizationParticle> particles_;
   std::vector<std::unique_ptr<Models>> models_;
   std::unique_ptr<LikelihoodField> field_;  // built at the first likelihood_field update
+  std::unique_ptr<BeamLookup> lookup_;      // built at the first beam update
+  // The rate of short readings (unexpected obstacles) at the estimate, a running mean over
+  // updates: the beam model's plausibility of a short reading.
+  double short_rate_ = 0.0;
   std::unique_ptr<WorkerPool> pool_;
   struct Workspace;
   std::vector<std::unique_ptr<Workspace>> workspaces_;
@@ -151,7 +163,7 @@ class Localizer {
   bool force_update_ = false;
   Pose2 last_update_odometry_;
   Pose2 last_odometry_;
-  PoseEstimate estimate_;        // at the last update (or reset)
+  PoseEstimate estimate_;  // at the last update (or reset)
   int updates_since_resample_ = 0;
   uint64_t step_ = 0;  // random streams: one per update and particle
   uint64_t draws_ = 0;
