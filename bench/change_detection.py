@@ -440,6 +440,8 @@ def check(results, junit):
         if r["false_alarms"]:
             failures.append(f"{r['false_alarms']} false alarm(s) in scenario {r['seed']}")
     if junit:
+        # The first test of a clean build: the results folder may not exist yet.
+        os.makedirs(os.path.dirname(os.path.abspath(junit)), exist_ok=True)
         with open(junit, "w") as f:
             body = "".join(f'<failure message="{m}"/>' for m in failures)
             f.write('<?xml version="1.0"?>\n<testsuite name="change_detection" tests="1" '
