@@ -445,7 +445,7 @@ def check(results, junit):
         with open(junit, "w") as f:
             body = "".join(f'<failure message="{m}"/>' for m in failures)
             f.write('<?xml version="1.0"?>\n<testsuite name="change_detection" tests="1" '
-                    f'failures="{1 if failures else 0}"><testcase name="smoke">{body}'
+                    f'errors="0" failures="{1 if failures else 0}"><testcase name="smoke">{body}'
                     '</testcase></testsuite>\n')
     for m in failures:
         print("CHECK FAILED: " + m)
