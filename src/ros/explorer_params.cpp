@@ -13,13 +13,7 @@ bool readThroughTable(const ParameterLookup& lookup, ForEach&& for_each, std::st
   for_each([&](const ParameterSpec& spec, auto& field) {
     XmlRpc::XmlRpcValue value;
     if (!ok || !lookup(spec.name, &value)) return;
-    std::string text;
-    if (!parameterText(value, &text)) {
-      ok = false;
-      if (why != nullptr) *why = std::string(spec.name) + " must be a single value";
-      return;
-    }
-    ok = parseParameter(spec, text, &field, why);
+    ok = parseServerValue(spec, value, &field, why);
   });
   return ok;
 }
@@ -59,8 +53,8 @@ bool readExplorationMonitorParams(const ParameterLookup& lookup, ExplorationMoni
 std::vector<std::string> unknownExplorerParams(const std::vector<std::string>& names) {
   std::vector<std::string> known;
   ExplorerNodeParams scratch;
-  forEachExplorerNodeParameter(scratch,
-                               [&known](const ParameterSpec& spec, auto&) { known.push_back(spec.name); });
+  forEachExplorerNodeParameter(
+      scratch, [&known](const ParameterSpec& spec, auto&) { known.push_back(spec.name); });
   std::vector<std::string> unknown;
   for (const std::string& n : names) {
     bool is_known = false;

@@ -52,13 +52,7 @@ bool readMapFusionParams(const ros::NodeHandle& nh, MapFusionParams* params, std
   forEachMapFusionParameter(*params, [&](const ParameterSpec& spec, auto& field) {
     XmlRpc::XmlRpcValue value;
     if (!ok || !nh.getParam(spec.name, value)) return;
-    std::string text;
-    if (!parameterText(value, &text)) {
-      ok = false;
-      if (why != nullptr) *why = std::string(spec.name) + " must be a single value";
-      return;
-    }
-    ok = parseParameter(spec, text, &field, why);
+    ok = parseServerValue(spec, value, &field, why);
   });
   return ok;
 }

@@ -134,13 +134,7 @@ bool readParams(const ros::NodeHandle& nh, NodeParams* params, std::string* why,
       }
       return;
     }
-    std::string text;
-    if (!parameterText(value, &text)) {
-      ok = false;
-      if (why != nullptr) *why = std::string(spec.name) + " must be a single value";
-      return;
-    }
-    ok = parseParameter(spec, text, &field, why);
+    ok = parseServerValue(spec, value, &field, why);
   });
   for (const GmappingName& row : gmappingNames()) {
     if (!nh.hasParam(row.theirs)) continue;
