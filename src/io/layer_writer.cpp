@@ -13,6 +13,7 @@
 #include "evidential_slam/io/atomic_files.h"
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/npy.h"
+#include "image_files.h"
 
 namespace evidential_slam {
 namespace io {
@@ -30,44 +31,6 @@ ByteImage northUp(const LayerRaster& raster, F&& pixel_of_index) {
     }
   }
   return img;
-}
-
-// True when the file at `path` is complete: a PNG ends with its IEND chunk (OpenCV does not report
-// a failed final flush, which leaves the file cut short); other formats are decoded back.
-bool imageComplete(const std::string& path, const mrpt::img::CImage& written) {
-  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0) {
-    static const char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', '\xae', '\x42', '\x60', '\x82'};
-    std::ifstream in(path, std::ios::binary);
-    char tail[12];
-    return in.seekg(-12, std::ios::end) && in.read(tail, 12) && std::equal(tail, tail + 12, kIend);
-  }
-  mrpt::img::CImage back;
-  return back.loadFromFile(path) && back.getWidth() == written.getWidth() &&
-         back.getHeight() == written.getHeight();
-}
-
-// Stages `img` as `path` in the format of its extension (PNG, PGM).
-bool stageImage(const mrpt::img::CImage& img, const std::string& path, AtomicFiles* files,
-                std::string* error) {
-  if (img.getWidth() == 0 || img.getHeight() == 0) {
-    if (error != nullptr) *error = "cannot write '" + path + "': the map has no observed cell";
-    return false;
-  }
-  // MRPT reports some failures as exceptions with a call stack: one line instead.
-  std::string thrown;
-  const bool ok = files->addByPath(
-      path,
-      [&](const std::string& temp) {
-        try {
-          return img.saveToFile(temp);
-        } catch (const std::exception& e) {
-          thrown = oneLineMessage(e.what());
-          return false;
-        }
-      },
-      [&](const std::string& temp) { return imageComplete(temp, img); }, error);
-  if (!ok && !thrown.empty() && error != nullptr) *error = "cannot write '" + path + "': " + thrown;
-  return ok;
 }
 
 // Scale of each layer's PNG. Masses, BetP, NS, IC and H live in [0, 1] (IC and H in bits over a
@@ -122,6 +85,43 @@ std::string fmt(double v) {
 }
 
 }  // namespace
+
+// True when the file at `path` is complete: a PNG ends with its IEND chunk (OpenCV does not report
+// a failed final flush, which leaves the file cut short); other formats are decoded back.
+static bool imageComplete(const std::string& path, const mrpt::img::CImage& written) {
+  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0) {
+    static const char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', '\xae', '\x42', '\x60', '\x82'};
+    std::ifstream in(path, std::ios::binary);
+    char tail[12];
+    return in.seekg(-12, std::ios::end) && in.read(tail, 12) && std::equal(tail, tail + 12, kIend);
+  }
+  mrpt::img::CImage back;
+  return back.loadFromFile(path) && back.getWidth() == written.getWidth() &&
+         back.getHeight() == written.getHeight();
+}
+
+bool stageImage(const mrpt::img::CImage& img, const std::string& path, AtomicFiles* files,
+                std::string* error) {
+  if (img.getWidth() == 0 || img.getHeight() == 0) {
+    if (error != nullptr) *error = "cannot write '" + path + "': the map has no observed cell";
+    return false;
+  }
+  // MRPT reports some failures as exceptions with a call stack: one line instead.
+  std::string thrown;
+  const bool ok = files->addByPath(
+      path,
+      [&](const std::string& temp) {
+        try {
+          return img.saveToFile(temp);
+        } catch (const std::exception& e) {
+          thrown = oneLineMessage(e.what());
+          return false;
+        }
+      },
+      [&](const std::string& temp) { return imageComplete(temp, img); }, error);
+  if (!ok && !thrown.empty() && error != nullptr) *error = "cannot write '" + path + "': " + thrown;
+  return ok;
+}
 
 uint8_t layerPixel(float value, const LayerImageScale& scale) {
   if (!std::isfinite(value)) return value > 0 ? 0 : 255;  // +inf as black, NaN / -inf as white

@@ -9,6 +9,7 @@
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/layer_writer.h"
 #include "evidential_slam/io/octomap_export.h"
+#include "evidential_slam/io/trajectory_image.h"
 #include "evidential_slam/io/trajectory_io.h"
 
 namespace evidential_slam {
@@ -133,6 +134,14 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
       return false;
     }
     report->files.insert(report->files.end(), written.files.begin(), written.files.end());
+    io::TrajectoryImage picture;
+    picture.path.reserve(save.trajectory.size());
+    for (const StampedPose& p : save.trajectory) picture.path.push_back(p.pose);
+    picture.reference = save.reference_path;
+    picture.caption = save.trajectory_caption;
+    const std::string png = (root / "trajectory.png").string();
+    if (!io::writeTrajectoryImage(raster, picture, png, error, files)) return false;
+    report->files.push_back(png);
     report->map_width = raster.width;
     report->map_height = raster.height;
     report->external_conflict_scale = written.external_conflict_scale;

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -402,6 +403,20 @@ int Run::execute() {
     AteResult ate;
     if (computeAte(best_path, truth_, opt_.ate_max_dt, &ate, &why)) {
       summary_.ate = AteSummary{ate.rmse, ate.max_error, ate.matched};
+      // trajectory.png draws the truth over the run's time span in the map frame: the
+      // alignment's inverse applied to it.
+      const Pose2 to_map = ate.alignment.inverse();
+      for (const StampedPose& t : truth_) {
+        if (t.stamp >= best_path.front().stamp - opt_.ate_max_dt &&
+            t.stamp <= best_path.back().stamp + opt_.ate_max_dt) {
+          save.reference_path.push_back(to_map.compose(t.pose));
+        }
+      }
+      char caption[96];
+      std::snprintf(caption, sizeof caption,
+                    "red: path, blue: ground truth; ATE %.3f m (max %.3f m)", ate.rmse,
+                    ate.max_error);
+      save.trajectory_caption = caption;
     } else {
       warn("no trajectory error: " + why);
     }

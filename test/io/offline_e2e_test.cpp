@@ -87,6 +87,7 @@ void checkOutputs(const fs::path& out, int scans) {
   }
   EXPECT_TRUE(fs::is_regular_file(out / "conflict.csv"));
   EXPECT_TRUE(fs::is_regular_file(out / "map.evmap"));
+  EXPECT_TRUE(fs::is_regular_file(out / "trajectory.png"));
   EXPECT_TRUE(fs::is_regular_file(layers / "composite.png"));
   EXPECT_TRUE(fs::is_regular_file(layers / "observed.npy"));
   EXPECT_TRUE(fs::is_regular_file(layers / "map.yaml"));
@@ -290,9 +291,9 @@ TEST_F(OfflineE2E, AFailedSaveKeepsThePreviousRun) {
   Result r = runOffline(concat(concat(base, kFast), {"--max-scans", "40"}), scratch_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto before = digest(out);
-  // Top level (with map.evmap), layers (PNG/NPY, composite, observed, map.yaml; the map_server
-  // pairs), OctoMap.
-  ASSERT_EQ(before.size(), 4u + (2u * kLayerCount + 3u) + 2u * kLayerCount + 3u);
+  // Top level (with map.evmap and trajectory.png), layers (PNG/NPY, composite, observed,
+  // map.yaml; the map_server pairs), OctoMap.
+  ASSERT_EQ(before.size(), 5u + (2u * kLayerCount + 3u) + 2u * kLayerCount + 3u);
 
   // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing the run.
   r = runOffline(concat(concat(base, kFast), {"--max-scans", "60"}), scratch_,

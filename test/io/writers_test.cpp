@@ -17,6 +17,7 @@
 #include "evidential_slam/io/npy.h"
 #include "evidential_slam/io/progress.h"
 #include "evidential_slam/io/summary.h"
+#include "evidential_slam/io/trajectory_image.h"
 #include "evidential_slam/io/trajectory_io.h"
 #include "test_util.h"
 
@@ -215,9 +216,9 @@ LayerRaster syntheticRaster() {
     for (int col = 0; col < 4; ++col) set(row, col, 0, 0, 1, 0, 0);
   }
   for (size_t i = 0; i < n; ++i) r.observed[i] = 0;
-  r.values[static_cast<int>(Layer::kAnomaly)][1] = 6.0f;      // row 0 (bottom), col 1
+  r.values[static_cast<int>(Layer::kAnomaly)][1] = 6.0f;          // row 0 (bottom), col 1
   r.values[static_cast<int>(Layer::kAnomaly)][1 * 4 + 2] = 1.5f;  // row 1, col 2
-  set(0, 0, 1, 0, 0, 0, 0);  // lowest y, lowest x: occupied
+  set(0, 0, 1, 0, 0, 0, 0);                                       // lowest y, lowest x: occupied
   r.observed[0] = 1;
   set(0, 1, 0, 1, 0, 0, 0);  // free
   r.observed[1] = 1;
@@ -426,6 +427,51 @@ TEST(LayerWriter, WritesMapServerPgmAndYamlPerLayer) {
 }
 
 // --- summary.json -------------------------------------------------------------------------------
+
+// trajectory.png: a 40 x 20 raster at 0.05 m from (-1, 0); BetP 0 (free, white) everywhere but
+// one occupied cell. The path runs along y = 0.525 (image row 9) from x = -0.975 to 0.925 (columns
+// 0 to 38), the reference along y = 0.225 (row 15); lines are 2 px wide (0.1 m).
+TEST(TrajectoryImage, DrawsThePathAndReferenceOverThePignisticMap) {
+  LayerRaster raster;
+  raster.resolution = 0.05;
+  raster.origin_x = -1.0;
+  raster.origin_y = 0.0;
+  raster.width = 40;
+  raster.height = 20;
+  for (auto& v : raster.values) v.assign(800, 0.0f);
+  raster.values[static_cast<int>(Layer::kPignistic)][2 * 40 + 30] = 1.0f;  // row 2 from the bottom
+  int c = 0, r = 0;
+  trajectoryPixel(raster, -0.975, 0.525, &c, &r);
+  EXPECT_EQ(c, 0);
+  EXPECT_EQ(r, 9);
+  trajectoryPixel(raster, 0.925, 0.225, &c, &r);
+  EXPECT_EQ(c, 38);
+  EXPECT_EQ(r, 15);
+
+  TrajectoryImage image;
+  for (int i = 0; i <= 38; ++i) image.path.emplace_back(-0.975 + 0.05 * i, 0.525, 0.0);
+  for (int i = 0; i <= 38; ++i) image.reference.emplace_back(-0.975 + 0.05 * i, 0.225, 0.0);
+  const auto dir = test::scratchDir();
+  std::string error;
+  ASSERT_TRUE(writeTrajectoryImage(raster, image, (dir / "t.png").string(), &error)) << error;
+  Png png;
+  ASSERT_TRUE(decodePng((dir / "t.png").string(), &png));
+  ASSERT_EQ(png.width, 40);
+  ASSERT_EQ(png.height, 20);
+  ASSERT_EQ(png.channels, 3);
+  auto rgb = [&](int row, int col) {
+    const uint8_t* p = png.at(row, col);
+    return std::vector<int>{p[0], p[1], p[2]};
+  };
+  EXPECT_EQ(rgb(9, 20), (std::vector<int>{220, 20, 20}));    // the path: red
+  EXPECT_EQ(rgb(15, 20), (std::vector<int>{40, 90, 230}));   // the reference: blue
+  EXPECT_EQ(rgb(17, 30), (std::vector<int>{0, 0, 0}));       // the occupied cell: black
+  EXPECT_EQ(rgb(3, 20), (std::vector<int>{255, 255, 255}));  // free: white
+
+  // Without layers to draw on, one line saying why.
+  EXPECT_FALSE(writeTrajectoryImage(LayerRaster(), image, (dir / "e.png").string(), &error));
+  EXPECT_NE(error.find("e.png"), std::string::npos) << error;
+}
 
 TEST(Summary, JsonHasTheDocumentedKeys) {
   const auto path = (test::scratchDir() / "summary.json").string();

@@ -115,5 +115,12 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "explore_test");
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  return RUN_ALL_TESTS();
+  const int failed = RUN_ALL_TESTS();
+  // A passed run leaves nothing behind; a failed one keeps its folder to look at.
+  std::string out;
+  if (failed == 0 && ros::NodeHandle("~").getParam("out", out) && !out.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove_all(out, ignored);
+  }
+  return failed;
 }

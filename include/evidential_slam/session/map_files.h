@@ -4,6 +4,8 @@
 //                    particle's map, its pose and odometry pose at save time, the build and every
 //                    parameter's value; what --load-map, map_file and ~load_map read back
 //   trajectory.tum   the best particle's path, one pose per scan (TUM: t x y z qx qy qz qw)
+//   trajectory.png   (with layers/) that path over the pignistic map, with the reference path and
+//                    caption of MapSave when set (io/trajectory_image.h)
 //   conflict.csv     per processed scan, the conflict it added and the alarm's verdict
 //   layers/          (when the observed box fits max_layer_cells) every layer as <name>.png +
 //   <name>.npy (writeLayers) and as a map_server pair
@@ -59,11 +61,15 @@ struct MapSave {
   // The map file's pose, odometry pose, parameters and metadata; the caller may add to the
   // metadata (e.g. "source").
   io::MapFileInfo info;
+  // Drawn in trajectory.png beside the path: a reference path in the map frame (ground truth,
+  // aligned as the ATE aligns it) and a caption (the ATE); set by the caller, empty by default.
+  std::vector<Pose2> reference_path;
+  std::string trajectory_caption;
 };
 
-// The best particle's map, anomaly, path and pose, the odometry pose with it, the conflict record, every
-// parameter's value (parameterValues) and as metadata the scan counts, the last scan's stamp and
-// whether mapping was paused. In localization mode: the stored map (unchanged), the anomaly
+// The best particle's map, anomaly, path and pose, the odometry pose with it, the conflict record,
+// every parameter's value (parameterValues) and as metadata the scan counts, the last scan's stamp
+// and whether mapping was paused. In localization mode: the stored map (unchanged), the anomaly
 // against it, the estimate's path and pose, no conflict record, metadata mode = localization.
 // Read the session where it does not run (the node's worker thread).
 MapSave captureMapSave(const MappingSession& session);
