@@ -74,18 +74,23 @@ class World:
         return 0 <= cx < self.w and 0 <= cy < self.h and self.occ[cy][cx]
 
     def write_png(self, path):
-        raw = b"".join(b"\x00" + bytes(0 if v else 255 for v in row)
-                       for row in reversed(self.occ))
+        write_png(path, self.w, self.h, [bytes(0 if v else 255 for v in row)
+                                         for row in reversed(self.occ)], 0)
 
-        def chunk(kind, data):
-            c = struct.pack(">I", len(data)) + kind + data
-            return c + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
-        with open(path, "wb") as f:
-            f.write(b"\x89PNG\r\n\x1a\n")
-            f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", self.w, self.h, 8, 0, 0, 0, 0)))
-            f.write(chunk(b"IDAT", zlib.compress(raw, 9)))
-            f.write(chunk(b"IEND", b""))
+def write_png(path, w, h, rows, color_type):
+    """8-bit PNG from `rows` (top row first): color_type 0 = grey, 2 = RGB."""
+    raw = b"".join(b"\x00" + bytes(row) for row in rows)
+
+    def chunk(kind, data):
+        c = struct.pack(">I", len(data)) + kind + data
+        return c + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n")
+        f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, color_type, 0, 0, 0)))
+        f.write(chunk(b"IDAT", zlib.compress(raw, 9)))
+        f.write(chunk(b"IEND", b""))
 
 
 def make_worlds(rng):
@@ -277,6 +282,48 @@ class Alignment:
         return self.c * x - self.s * y + self.tx, self.s * x + self.c * y + self.ty
 
 
+def write_figure(path, maps, aligns, added_world, removed_cells, last):
+    """Day 1's map, day 2's after pass `last`, side by side (BetP, dark = occupied), 2 px apart;
+    on both, the cells scored as added (red) and removed (blue) at their place in each map: full
+    colour where that map holds them occupied, pale where free."""
+    x0 = min(m.x0 for m in (maps[0], maps[last]))
+    y0 = min(m.y0 for m in (maps[0], maps[last]))
+    x1 = max(m.x0 + m.w * m.res for m in (maps[0], maps[last]))
+    y1 = max(m.y0 + m.h * m.res for m in (maps[0], maps[last]))
+    w, h = int((x1 - x0) / RES), int((y1 - y0) / RES)
+    panels = []
+    for k in (0, last):
+        mp = maps[k]
+        img = [[(int(255 * (1 - mp.p(x0 + (c + 0.5) * RES, y0 + (r + 0.5) * RES))),) * 3
+                for c in range(w)] for r in range(h)]
+        marks = [(aligns[k](*q), (220, 30, 30)) for q in added_world]
+        # removed_cells are in day 1's map frame: into day 2's through the world frame.
+        for q in removed_cells:
+            if k == 0:
+                marks.append((q, (30, 80, 230)))
+            else:
+                a0, ak = aligns[0], aligns[k]
+                dx, dy = q[0] - a0.tx, q[1] - a0.ty
+                wx, wy = a0.c * dx + a0.s * dy, -a0.s * dx + a0.c * dy
+                marks.append((ak(wx, wy), (30, 80, 230)))
+        for (qx, qy), rgb in marks:
+            c, r = int((qx - x0) / RES), int((qy - y0) / RES)
+            if 0 <= c < w and 0 <= r < h:
+                # Full colour where the map holds the cell occupied, a pale tint where free.
+                a = 1.0 if mp.p(qx, qy) > 0.5 else 0.3
+                img[r][c] = tuple(int(a * v + (1 - a) * 255) for v in rgb)
+        panels.append(img)
+    rows = []
+    for r in reversed(range(h)):
+        row = []
+        for img in panels:
+            for v in img[r]:
+                row.extend(v)
+            row.extend((255, 255, 255) * 2)
+        rows.append(row[:-6])
+    write_png(path, 2 * w + 2, h, rows, 2)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=2, help="generated day-1/day-2 pairs [2]")
@@ -287,6 +334,8 @@ def main():
     ap.add_argument("--passes", type=int, default=3)
     ap.add_argument("--work", default="/tmp/map_dynamics", help="work directory")
     ap.add_argument("--bin", default=BIN, help="directory of the built programs")
+    ap.add_argument("--figure", help="PNG: the first run's day 1 and last day-2 pass side by side "
+                    "(first method), added cells red, removed blue; full colour = occupied on that map")
     args = ap.parse_args()
     seeds = args.seeds or [random.SystemRandom().randrange(1, 10**6) for _ in range(args.runs)]
     print(f"seeds: {' '.join(map(str, seeds))}  (rerun: --seeds {' '.join(map(str, seeds))})")
@@ -386,6 +435,9 @@ def main():
                 row["anomaly_removed"] = statistics.median(ar) if ar else 0.0
             rows[m].append(row)
             print(f"seed {seed} {m}: " + json.dumps(row), flush=True)
+            if args.figure and m == methods[0] and seed == seeds[0]:
+                write_figure(args.figure, maps, aligns, added_world, removed_cells, args.passes)
+                print(f"figure: {args.figure}")
 
     print("\n| method | added occupied after pass 1 / 2 / 3 | removed free after 1 / 2 / 3 | "
           "unseen walls kept | ATE day 1 | ATE day 2 (passes) | anomaly added / removed |")
