@@ -25,8 +25,9 @@ before the first event:
                        the 20th processed scan after it) is detected when the alarm fires within
                        20 processed scans of it; false alarms are rising alarms on clean runs and
                        before the first event of the others, per hour of that driving. The peer's
-                       alarm is the same detector (factor 4 over the median of the last 50 quiet
-                       scans, at least 5, 10 scans of warm-up) on the number of cells a scan flips.
+                       alarm is the same detector (factor 4 over the largest of the last 50 quiet
+                       scans, at least 5, 2 scans in a row, none before the window holds 50 scans)
+                       on the number of cells a scan flips.
   /usr/bin/python3 bench/change_detection.py [--runs 50] [--seed S] [--smoke]
 """
 
@@ -196,13 +197,14 @@ def read_peer_scans(path):
     return rows
 
 
-def peer_alarm(values, factor=4.0, floor=5.0, window=50, warmup=10):
-    """conflict_alarm.cpp's detector on a series: per scan, alarm yes/no."""
-    base, out = [], []
+def peer_alarm(values, factor=4.0, floor=5.0, window=50, warmup=50, confirm=2):
+    """conflict_alarm.cpp's detector (its defaults) on a series: per scan, alarm yes/no."""
+    base, out, above = [], [], 0
     for v in values:
-        b = float(np.median(base)) if base else 0.0
+        b = max(base) if base else 0.0
         a = len(base) >= min(warmup, window) and v > floor and v > factor * b
-        out.append(a)
+        above = above + 1 if a else 0
+        out.append(above >= confirm)
         if not a:
             base.append(v)
             base = base[-window:]

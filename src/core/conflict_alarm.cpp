@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 namespace evidential_slam {
 
@@ -30,13 +29,7 @@ void ConflictAlarm::setConfig(const ConflictAlarmConfig& config) {
 }
 
 double ConflictAlarm::baseline() const {
-  if (window_.empty()) return 0.0;
-  std::vector<double> sorted(window_.begin(), window_.end());
-  const size_t mid = sorted.size() / 2;
-  std::nth_element(sorted.begin(), sorted.begin() + mid, sorted.end());
-  if (sorted.size() % 2 == 1) return sorted[mid];
-  const double upper = sorted[mid];
-  return 0.5 * (upper + *std::max_element(sorted.begin(), sorted.begin() + mid));
+  return window_.empty() ? 0.0 : *std::max_element(window_.begin(), window_.end());
 }
 
 ConflictAlarmState ConflictAlarm::update(double added) {

@@ -108,15 +108,15 @@ void SlamOutputs::reportConflict(const SessionScanResult& result, const ros::Tim
   std_msgs::Float64 added;
   added.data = update.conflict_mass_added;
   conflict_pub_.publish(added);
-  added.data = state.added;
+  added.data = update.open_space_conflict_added;
   open_space_conflict_pub_.publish(added);
 
   char message[256];
   if (state.alarm) {
     std::snprintf(message, sizeof(message),
-                  "localisation failure or environment change: the scan added %.1f of conflict "
-                  "mass in the map's open space (running baseline %.2f; %.1f in all, %.1f bits of "
-                  "external conflict)",
+                  "localisation failure or environment change: the scan contradicted %.1f cells "
+                  "of the map's confident evidence (recent quiet scans at most %.2f; it added "
+                  "%.1f of conflict mass, %.1f bits of external conflict)",
                   state.added, state.baseline, update.conflict_mass_added,
                   update.external_conflict_added);
   } else {
@@ -139,7 +139,8 @@ void SlamOutputs::reportConflict(const SessionScanResult& result, const ros::Tim
     status.values.push_back(kv);
   };
   value("conflict_mass_added", update.conflict_mass_added);
-  value("open_space_conflict_added", state.added);
+  value("open_space_conflict_added", update.open_space_conflict_added);
+  value("contradiction_added", state.added);
   value("ec_added_bits", update.external_conflict_added);
   value("baseline", state.baseline);
   value("ratio", state.ratio);

@@ -35,17 +35,19 @@ bool writeConflictCsv(const std::string& path, const std::vector<ConflictRecord>
       [&](std::ostream& f) {
         f << "# per processed scan: stamp (s), the external conflict (bits) and the conflict mass "
              "m(0) (summed over cells) it added to the best map, the part of that mass added in "
-             "the map's open space (the alarm's input), the alarm's running baseline of it, their "
-             "ratio, alarm (1 = above threshold on conflict_alarm_confirm_scans scans in a row), "
-             "the cells of confident evidence the scan contradicted, each weighted by its "
-             "conflict K (anomaly.h: hits in open space and passes through obstacles)\n"
+             "the map's open space, the alarm's baseline (the largest contradiction_added of "
+             "recent quiet scans), contradiction_added / baseline, alarm (1 = above threshold on "
+             "conflict_alarm_confirm_scans scans in a row), and the alarm's input "
+             "contradiction_added: the cells of confident evidence the scan contradicted, each "
+             "weighted by its conflict K (anomaly.h: hits in open space and passes through "
+             "obstacles)\n"
           << "stamp,ec_added_bits,conflict_mass_added,open_space_conflict_added,baseline,ratio,"
              "alarm,contradiction_added\n";
         char line[200];
         for (const ConflictRecord& r : rows) {
           std::snprintf(line, sizeof(line), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.6g\n", r.stamp,
-                        r.ec_added_bits, r.conflict_mass_added, r.alarm.added, r.alarm.baseline,
-                        r.alarm.ratio, r.alarm.alarm ? 1 : 0, r.contradiction_added);
+                        r.ec_added_bits, r.conflict_mass_added, r.open_space_conflict_added,
+                        r.alarm.baseline, r.alarm.ratio, r.alarm.alarm ? 1 : 0, r.alarm.added);
           f << line;
         }
         return static_cast<bool>(f);

@@ -134,10 +134,10 @@ SessionScanResult MappingSession::processScan(const Pose2& odometry, const Laser
   }
   result.update = engine_->processScan(odometry, scan);
   if (result.update.processed && !engine_->mappingPaused()) {
-    result.alarm = alarm_.update(result.update.open_space_conflict_added);
+    result.alarm = alarm_.update(result.update.contradiction_added);
     conflict_log_.push_back(ConflictRecord{stamp, result.update.external_conflict_added,
-                                           result.update.conflict_mass_added, result.alarm,
-                                           result.update.contradiction_added});
+                                           result.update.conflict_mass_added,
+                                           result.update.open_space_conflict_added, result.alarm});
   }
   return result;
 }

@@ -1,6 +1,6 @@
-// Tests of the conflict alarm (conflict_alarm.h): its input, the conflict mass a scan adds in the
-// map's open space (ScanConflict::open_space_added, sensor_model.h), on hand-built maps; and the
-// alarm itself on hand-made sequences.
+// Tests of the conflict alarm (conflict_alarm.h): the conflict mass a scan adds in the map's open
+// space (ScanConflict::open_space_added, sensor_model.h, reported beside the alarm's input), on
+// hand-built maps; and the alarm itself on hand-made sequences of its input.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,35 +142,40 @@ ConflictAlarmConfig smallConfig() {
   return c;
 }
 
-TEST(ConflictAlarm, BaselineIsTheMedianOfRecentScans) {
+TEST(ConflictAlarm, BaselineIsTheLargestOfRecentQuietScans) {
   ConflictAlarm alarm(smallConfig());
   EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);
-  for (double v : {2.0, 10.0, 3.0}) alarm.update(v);  // 10 > 4 * 2.5? warm-up: no alarm yet
-  EXPECT_DOUBLE_EQ(alarm.baseline(), 3.0);            // median of {2, 10, 3}
-  alarm.update(4.0);
-  EXPECT_DOUBLE_EQ(alarm.baseline(), 3.5);  // median of {2, 10, 3, 4}
-  for (double v : {5.0, 6.0}) alarm.update(v);
-  EXPECT_DOUBLE_EQ(alarm.baseline(), 5.0);  // the window keeps the last 5: {10, 3, 4, 5, 6}
+  for (double v : {2.0, 10.0, 3.0}) alarm.update(v);  // warm-up: 10 > 4 x 2 does not alarm
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 10.0);           // the largest of {2, 10, 3}
+  for (double v : {4.0, 5.0, 6.0}) alarm.update(v);
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 10.0);  // the window keeps the last 5: {10, 3, 4, 5, 6}
+  alarm.update(1.0);
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 6.0);  // 10 has left it: {3, 4, 5, 6, 1}
 }
 
-// Baseline 2: 7.9 stays quiet (< 4 x 2), 8.5 alarms and rises once, the next alarming scan
-// does not rise again, and alarming scans do not enter the baseline.
+// Baseline 2: 7.9 stays quiet (< 4 x 2) and becomes the baseline; 31.5 (< 4 x 7.9 = 31.6) too;
+// 126.5 (> 4 x 31.5 = 126) alarms and rises once, the next alarming scan does not rise again, and
+// alarming scans do not enter the baseline.
 TEST(ConflictAlarm, FiresAboveFactorTimesBaseline) {
   ConflictAlarm alarm(smallConfig());
   for (int i = 0; i < 5; ++i) EXPECT_FALSE(alarm.update(2.0).alarm);
   ConflictAlarmState s = alarm.update(7.9);
   EXPECT_FALSE(s.alarm);
   EXPECT_DOUBLE_EQ(s.baseline, 2.0);
-  s = alarm.update(8.5);
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 7.9);  // a quiet scan enters the window
+  s = alarm.update(31.5);                   // 4 x 7.9 = 31.6
+  EXPECT_FALSE(s.alarm);
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 31.5);
+  s = alarm.update(126.5);  // > 4 x 31.5 = 126
   EXPECT_TRUE(s.alarm);
   EXPECT_TRUE(s.rising);
-  EXPECT_NEAR(s.ratio, 8.5 / 2.0, 1e-12);
-  s = alarm.update(50.0);
+  EXPECT_NEAR(s.ratio, 126.5 / 31.5, 1e-12);
+  s = alarm.update(500.0);
   EXPECT_TRUE(s.alarm);
   EXPECT_FALSE(s.rising);
-  EXPECT_DOUBLE_EQ(alarm.baseline(), 2.0);  // {2, 2, 2, 2, 7.9} -> 2
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 31.5);  // {2, 2, 2, 7.9, 31.5}: the alarms stayed out
   EXPECT_FALSE(alarm.update(2.0).alarm);
-  EXPECT_TRUE(alarm.update(9.0).rising);  // a new episode
+  EXPECT_TRUE(alarm.update(127.0).rising);  // a new episode
 }
 
 TEST(ConflictAlarm, QuietDuringWarmupBelowFloorAndWhenDisabled) {
@@ -180,7 +185,9 @@ TEST(ConflictAlarm, QuietDuringWarmupBelowFloorAndWhenDisabled) {
   ConflictAlarm tiny(smallConfig());
   for (int i = 0; i < 5; ++i) tiny.update(0.01);
   EXPECT_FALSE(tiny.update(0.9).alarm);  // 90 x the baseline, but below min_added
-  EXPECT_TRUE(tiny.update(1.5).alarm);
+  ConflictAlarm tiny2(smallConfig());
+  for (int i = 0; i < 5; ++i) tiny2.update(0.01);
+  EXPECT_TRUE(tiny2.update(1.5).alarm);
   ConflictAlarmConfig off = smallConfig();
   off.enabled = false;
   ConflictAlarm disabled(off);
@@ -188,34 +195,67 @@ TEST(ConflictAlarm, QuietDuringWarmupBelowFloorAndWhenDisabled) {
   EXPECT_FALSE(disabled.update(1000.0).alarm);
 }
 
-// The input is ~0 on a consistent run, so the baseline is 0 and the floor decides: with the
-// defaults (floor 5, factor 4, 2 scans to confirm) 4.9 stays quiet, one scan at 22 (a scan the
-// best particle placed wrong, a person passing) does not alarm, two in a row do.
+// With the defaults (floor 5, factor 4, 2 scans to confirm, no alarm before the window holds 50
+// scans). A simulated run's input is ~0 before a fault, so the floor decides: 4.9 stays quiet, one
+// scan at 22 (a scan the best particle placed wrong) does not alarm, two in a row do, and a fault
+// that persists keeps alarming: its scans never enter the baseline.
 TEST(ConflictAlarm, ZeroBaselineLeavesItToTheFloor) {
   const ConflictAlarmConfig defaults;
   EXPECT_EQ(defaults.min_added, 5.0);
   EXPECT_EQ(defaults.threshold_factor, 4.0);
   EXPECT_EQ(defaults.baseline_scans, 50);
-  EXPECT_EQ(defaults.warmup_scans, 10);
+  EXPECT_EQ(defaults.warmup_scans, 50);
   EXPECT_EQ(defaults.confirm_scans, 2);
   ConflictAlarm alarm(defaults);
-  for (int i = 0; i < 9; ++i) EXPECT_FALSE(alarm.update(0.0).alarm);
-  EXPECT_FALSE(alarm.update(30.0).alarm);   // 10th scan: 9 in the baseline, still warming up
-  EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);  // median of {0 x 9, 30}
-  EXPECT_FALSE(alarm.update(4.9).alarm);
-  ConflictAlarmState s = alarm.update(22.0);
+  for (int i = 0; i < 49; ++i) EXPECT_FALSE(alarm.update(0.0).alarm);
+  EXPECT_FALSE(alarm.update(30.0).above);  // 50th scan: 49 in the window, still warming up
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 30.0);
+  ConflictAlarm fresh(defaults);
+  for (int i = 0; i < 50; ++i) fresh.update(0.0);
+  EXPECT_FALSE(fresh.update(4.9).above);  // under the floor (and now the baseline)
+  ConflictAlarmState s = fresh.update(22.0);
   EXPECT_TRUE(s.above);
   EXPECT_FALSE(s.alarm);
-  EXPECT_FALSE(alarm.update(0.0).alarm);  // a transient: quiet again
-  EXPECT_FALSE(alarm.update(22.0).alarm);
-  s = alarm.update(22.0);
+  EXPECT_FALSE(fresh.update(0.0).alarm);  // a transient: quiet again
+  EXPECT_FALSE(fresh.update(22.0).alarm);
+  s = fresh.update(22.0);
   EXPECT_TRUE(s.alarm);
   EXPECT_TRUE(s.rising);
-  EXPECT_DOUBLE_EQ(s.baseline, 0.0);
-  EXPECT_DOUBLE_EQ(s.ratio, 0.0);  // no ratio to a zero baseline
-  // A fault that persists keeps alarming: its scans never enter the baseline.
-  for (int i = 0; i < 60; ++i) EXPECT_TRUE(alarm.update(9.0).alarm) << i;
-  EXPECT_DOUBLE_EQ(alarm.baseline(), 0.0);
+  EXPECT_DOUBLE_EQ(s.baseline, 4.9);
+  EXPECT_NEAR(s.ratio, 22.0 / 4.9, 1e-12);
+  for (int i = 0; i < 60; ++i) EXPECT_TRUE(fresh.update(20.0).alarm) << i;
+  EXPECT_DOUBLE_EQ(fresh.baseline(), 4.9);
+}
+
+// A real robot driving into clutter: each scan contradicts the map more than the one before
+// (5, 12, 30, 70, 150 cells: chair legs, people), but never more than 4 x the largest of the
+// quiet scans before it, so the envelope grows with it and the defaults never alarm, although
+// 12 to 150 are over the floor (a median baseline, 1 here, alarmed at 30). A kidnap 50 quiet
+// scans later, when the envelope holds only their largest, 20: 90 and 85 are over 4 x 20 = 80
+// and alarm on the second. Right after the ramp the same two scans do not.
+TEST(ConflictAlarm, ARampRaisesTheEnvelopeAStepAlarms) {
+  const ConflictAlarmConfig defaults;
+  ConflictAlarm alarm(defaults);
+  for (int i = 0; i < 50; ++i) EXPECT_FALSE(alarm.update(1.0).alarm);
+  for (double v : {5.0, 12.0, 30.0, 70.0, 150.0}) {
+    const ConflictAlarmState s = alarm.update(v);
+    EXPECT_FALSE(s.above) << v;
+  }
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 150.0);
+  for (int i = 0; i < 50; ++i) EXPECT_FALSE(alarm.update(i % 10 == 0 ? 20.0 : 2.0).alarm);
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 20.0);  // the ramp has left the window
+  ConflictAlarmState s = alarm.update(90.0);
+  EXPECT_TRUE(s.above);
+  EXPECT_FALSE(s.alarm);
+  s = alarm.update(85.0);
+  EXPECT_TRUE(s.alarm);
+  EXPECT_TRUE(s.rising);
+  EXPECT_NEAR(s.ratio, 85.0 / 20.0, 1e-12);
+  ConflictAlarm after_ramp(defaults);
+  for (int i = 0; i < 50; ++i) after_ramp.update(1.0);
+  for (double v : {5.0, 12.0, 30.0, 70.0, 150.0}) after_ramp.update(v);
+  EXPECT_FALSE(after_ramp.update(90.0).above);  // 4 x 150 = 600
+  EXPECT_FALSE(after_ramp.update(85.0).alarm);
 }
 
 TEST(ConflictAlarm, ResetAndValidation) {

@@ -339,6 +339,35 @@ TEST(CellTest, ToMassIsNonNegativeWhenStoredPairSumsToOne) {
   EXPECT_GE(c.toMass().unknown, 0.0);
 }
 
+// A NaN (an update of NaN scan masses, a corrupt input) must not be stored: std::max(NaN, 0) is
+// NaN, a NaN λ reads back as NaN EC and NaN 1 - m(∅), and a NaN mass converted to steps is
+// undefined. NaN is stored as 0; the clamps of ordinary values are unchanged.
+TEST(CellTest, NaNIsStoredAsZero) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  Cell c = Cell::fromStored(0.25f, 0.5f, 2.0f);
+  c.setLambda(nan);
+  EXPECT_EQ(c.lambda(), 0.0f);
+  EXPECT_EQ(c.oneMinusConflict(), 1.0);
+  EXPECT_FALSE(c.conflicted());
+  c.setMasses(nan, 0.5f);
+  EXPECT_EQ(c.occupied(), 0.0f);
+  EXPECT_EQ(c.free(), 0.5f);
+  c.setMasses(0.25f, nan);
+  EXPECT_EQ(c.occupied(), 0.25f);
+  EXPECT_EQ(c.free(), 0.0f);
+  c.setLambda(-1.0f);
+  EXPECT_EQ(c.lambda(), 0.0f);
+  c.setLambda(std::numeric_limits<float>::infinity());
+  EXPECT_EQ(c.lambda(), 65504.0f);
+  c.setLambda(1.5f);
+  EXPECT_EQ(c.lambda(), 1.5f);
+  // An update with a NaN scan mass leaves a finite λ behind.
+  Cell u = Cell::fromStored(0.0f, 0.9f, 0.0f);
+  updateCell(u, ScanMass{nan, 0.0f});
+  EXPECT_FALSE(std::isnan(u.lambda()));
+  EXPECT_FALSE(std::isnan(externalConflict(u)));
+}
+
 // Same invariants when the evidence is balanced so the cell stays mixed:
 // hit (o0.5, Θ0.5) and miss (e0.5, Θ0.5) alternating, 10^6 times. The cycle converges to
 // after-miss (0.5, 0.5) -> hit: K = 0.5*0.5 = 0.25, m̃ = (0.5/0.75, 0.25/0.75) = (2/3, 1/3)

@@ -1,23 +1,20 @@
-// Conflict alarm (beyond the paper, from its discussion of external conflict): each processed scan
-// adds some conflict to the map; a localisation failure or a change of the environment makes a
-// scan contradict the map far more than usual. The alarm compares what each scan added with a
-// running baseline (the median of recent scans below the threshold) and fires when it exceeds it
-// by a factor and a floor on `confirm_scans` consecutive scans: a filter left lost by a kidnap
-// contradicts the map at every scan until it has rewritten it, while one scan the best particle
-// placed wrong is a transient (on generated clean runs and on the Intel log, many alarms
-// of single scans were such transients: docs/decisions.md#conflict-alarm-input).
+// Conflict alarm (beyond the paper, from its discussion of external conflict): a localisation
+// failure or a change of the environment makes a scan contradict the map far more than usual.
 //
-// Its input is the conflict mass m(∅) the scan added in the map's open space
-// (ScanConflict::open_space_added): on cells where the scan puts an obstacle (m̃(e)s(o) >= 1/2)
-// and every cell within the forward model's hit window (BeamModel::openSpaceRadius) is believed
-// free. Not all the m(∅) a scan adds: that is dominated by the surface band of walls the robot
-// maps for the first times (cells partly wall, passed through by grazing beams and hit by others),
-// several times more per scan while exploring than when revisiting, so a baseline that spans
-// exploration hides a moving object that adds as much. That surface-band conflict lies next to
-// cells the map holds occupied or has never seen; a moving object in mapped free space, or a scan
-// placed at a wrong pose, puts hits where the map holds open floor, which a correct scan of a
-// static world does not (docs/ros.md#conflict-alarm, for the numbers). The floor `min_added` is in
-// the same unit, roughly the number of open-space cells newly contradicted.
+// Its input is how much of the map's confident evidence a scan contradicts (ScanConflict::
+// contradiction, anomaly.h: ΣK over its hits in the map's open space and its passes through
+// obstacles the map holds, about a number of cells): a kidnap does both at once, and its passes
+// keep contradicting after the first scans have drawn the ghost walls into the map.
+//
+// Its baseline is the run's own envelope: the largest input of the last `baseline_scans` quiet
+// scans. A scan is above the threshold when its input exceeds `threshold_factor` times that and the
+// floor `min_added`; the alarm fires when `confirm_scans` consecutive scans are above it. On real
+// robots a correct scan contradicts the map too (chair and table legs seen from one side only,
+// people, glass, range noise), by an amount that depends on the sensor and the place and grows
+// over a few scans as the robot drives into clutter, so the envelope grows with it; a kidnap is a
+// step: its first scan contradicts the map several times more than any scan before it
+// (docs/decisions.md#conflict-alarm-the-runs-own-envelope). Scans above the threshold never
+// enter the baseline they are judged against, so a fault that persists keeps alarming.
 #pragma once
 
 #include <cstddef>
@@ -35,8 +32,8 @@ struct ConflictAlarmConfig {
 };
 
 struct ConflictAlarmState {
-  double added = 0.0;     // what this scan added in open space (the alarm's input)
-  double baseline = 0.0;  // running baseline before this scan
+  double added = 0.0;     // the alarm's input for this scan (ScanConflict::contradiction)
+  double baseline = 0.0;  // the envelope before this scan: the largest input of recent quiet scans
   double ratio = 0.0;     // added / baseline (0 while the baseline is 0)
   bool above = false;     // this scan is above the threshold
   bool alarm = false;     // ... and so were the confirm_scans - 1 before it
@@ -52,7 +49,7 @@ class ConflictAlarm {
   void reset();
   void setConfig(const ConflictAlarmConfig& config);
   const ConflictAlarmConfig& config() const { return config_; }
-  // Median of the baseline window (0 when empty).
+  // The largest value in the baseline window (0 when empty).
   double baseline() const;
 
  private:

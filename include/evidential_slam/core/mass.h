@@ -82,14 +82,16 @@ class Cell {
   bool conflicted() const { return lambda_.x != 0; }  // λ > 0: m(∅) > 0
   bool observed() const { return (occupiedSteps() | freeSteps()) != 0 || conflicted(); }
 
-  // Rounds to the nearest representable pair; values outside the simplex are clamped into it.
+  // Rounds to the nearest representable pair; values outside the simplex are clamped into it (NaN
+  // as 0).
   void setMasses(float occupied, float free) {
     const uint32_t o = toSteps(occupied);
     setSteps(o, std::min(toSteps(free), kMassSteps - o));
   }
-  // Clamped to [0, 65504], the largest finite half float.
+  // Clamped to [0, 65504], the largest finite half float; NaN is stored as 0 (std::max and
+  // std::min pass a NaN first argument through, and a NaN λ would make every read of the cell NaN).
   void setLambda(float lambda) {
-    lambda_ = Eigen::half(std::min(std::max(lambda, 0.0f), 65504.0f));
+    lambda_ = Eigen::half(lambda > 0.0f ? std::min(lambda, 65504.0f) : 0.0f);
   }
 
   Mass toMass() const;  // the explicit masses m(∅), m(o), m(e), m(Θ)
@@ -149,7 +151,8 @@ class Cell {
     return static_cast<float>(steps) * (1.0f / static_cast<float>(kMassSteps));
   }
   static uint32_t toSteps(float mass) {
-    const float x = std::min(std::max(mass, 0.0f), 1.0f) * static_cast<float>(kMassSteps);
+    // NaN as 0: converting a NaN float to an integer is undefined.
+    const float x = (mass > 0.0f ? std::min(mass, 1.0f) : 0.0f) * static_cast<float>(kMassSteps);
     const uint32_t whole = static_cast<uint32_t>(x);
     return whole + static_cast<uint32_t>(x - static_cast<float>(whole) >= 0.5f);
   }

@@ -42,7 +42,7 @@ struct TracedScan {
   void clear();
 };
 
-// What integrating one scan did to a map's conflict (the conflict alarm's inputs,
+// What integrating one scan did to a map's conflict (`contradiction` is the conflict alarm's input,
 // conflict_alarm.h).
 struct ScanConflict {
   // Σ over the touched cells of the increase of m(∅) = 1 - exp(-λ): e^{-λ} K per cell, with
@@ -55,7 +55,7 @@ struct ScanConflict {
   double open_space_added = 0.0;
   // Σ K over the cells whose confident evidence the scan contradicts, before the update
   // (contradictionOf the scan's anomaly cells, anomaly.h): hits in open space and passes through
-  // obstacles, undiluted by the conflict already there (reported; not the alarm's input).
+  // obstacles, undiluted by the conflict already there (the alarm's input).
   double contradiction = 0.0;
 };
 

@@ -45,8 +45,8 @@ struct ScanUpdate {
   Pose2 best_pose;                         // best particle's pose at this scan (map frame)
   double external_conflict_added = 0.0;    // sum of EC (bits) this scan added to the best map
   double conflict_mass_added = 0.0;        // sum of m(∅) it added there
-  double open_space_conflict_added = 0.0;  // ... of which in the map's open space (alarm's input)
-  double contradiction_added = 0.0;  // cells of confident evidence it contradicted (ΣK, anomaly.h)
+  double open_space_conflict_added = 0.0;  // ... of which in the map's open space
+  double contradiction_added = 0.0;        // what it contradicted (ΣK, anomaly.h): alarm input
 };
 
 class SlamEngine {

@@ -31,8 +31,8 @@ struct ConflictRecord {
   double stamp = 0.0;
   double ec_added_bits = 0.0;
   double conflict_mass_added = 0.0;
-  ConflictAlarmState alarm;
-  double contradiction_added = 0.0;  // ScanUpdate::contradiction_added (not the alarm's input)
+  double open_space_conflict_added = 0.0;  // ScanUpdate::open_space_conflict_added
+  ConflictAlarmState alarm;                // its input: ScanUpdate::contradiction_added
 };
 
 // What became of one scan given to the session.
