@@ -190,6 +190,10 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     }
     const exploration::VelocityCommand cmd = explorer.update(scan.stamp, pose, fresh);
     r.explorer_time_s += secondsSince(tick);
+    if (!explorer.fault().empty()) {
+      r.fault_time_s += sim_config.scan_period;
+      if (r.first_fault.empty()) r.first_fault = explorer.fault();
+    }
     sim.setVelocityCommand(cmd.linear, cmd.angular);
 
     if (explorer.done() || stopping || (progress && !progress(t, r))) break;
@@ -208,6 +212,7 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
   r.scans_processed = engine.stats().scans_processed;
   r.done = explorer.done();
   r.stop_reason = r.done ? explorer.stopMessage() : "max_time reached";
+  if (!explorer.fault().empty()) r.stop_reason += " (stopped by a fault: " + explorer.fault() + ")";
   r.explorer_stats = explorer.stats();
   r.final_map = raster;
   r.start_pose = start;
@@ -262,6 +267,8 @@ bool writeExplorationJson(const std::string& path, const ExplorationRunResult& r
                   {"no_path", r.explorer_stats.goals_no_path},
                   {"no_progress", r.explorer_stats.goals_no_progress},
                   {"replans", r.explorer_stats.replans}};
+    j["fault_time_s"] = r.fault_time_s;
+    j["first_fault"] = r.first_fault;
     j["time_near_regions_s"] = r.time_near_regions_s;
     nlohmann::ordered_json places = nlohmann::ordered_json::object();
     for (const PlaceLayers& l : r.place_layers) {

@@ -147,6 +147,9 @@ TEST(ExplorationLoop, RegionsAreMeasuredWhereTheyAre) {
   ASSERT_TRUE(io::writeExplorationJson(path, r, &error)) << error;
   const nlohmann::json j = nlohmann::json::parse(test::readText(path));
   EXPECT_DOUBLE_EQ(j.at("time_near_regions_s").get<double>(), r.time_near_regions_s);
+  // No map was refused, the pose was always finite: no fault.
+  EXPECT_EQ(j.at("fault_time_s").get<double>(), 0.0);
+  EXPECT_EQ(j.at("first_fault").get<std::string>(), "");
   EXPECT_DOUBLE_EQ(j.at("place_layers").at("glass").at("ec").get<double>(), places["glass"].ec);
 }
 

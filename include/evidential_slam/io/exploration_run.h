@@ -71,6 +71,10 @@ struct ExplorationRunResult {
   // poses of every scan (core/metrics.h: SE(2)-aligned RMSE and maximum); < 0: not measured.
   double ate_rmse_m = -1.0;
   double ate_max_m = -1.0;
+  // Simulated s the explorer held the robot stopped for a fault (Explorer::fault(): a map with a
+  // non-finite value, a non-finite pose), and the first such fault ("" when none).
+  double fault_time_s = 0.0;
+  std::string first_fault;
   // Simulated s with the robot's centre within kNearRegion m of a glass or clutter region.
   double time_near_regions_s = 0.0;
   // At the end, per kind of place (kinds without a cell are left out).
@@ -80,8 +84,8 @@ struct ExplorationRunResult {
   double explorer_time_s = 0.0;  // raster extraction and Explorer::update
   exploration::ExplorerStats explorer_stats;
   // False when the run was watched from outside (the ROS monitor): processing times, scans
-  // processed, the goal counts, the time near regions and the place layers were not measured and
-  // are left out of exploration.json.
+  // processed, the goal counts, the faults, the time near regions and the place layers were not
+  // measured and are left out of exploration.json.
   bool internals_measured = true;
   std::shared_ptr<const LayerRaster> final_map;  // the best map at the end, as a raster
   Pose2 start_pose;                              // the robot's true start (the map frame)
