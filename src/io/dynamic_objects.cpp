@@ -42,10 +42,8 @@ void DynamicObject::segmentAt(double t, Eigen::Vector2d* a, Eigen::Vector2d* b) 
   *b = b0 + s * (b1 - b0);
 }
 
-double DynamicObject::rayHit(double t, const Eigen::Vector2d& origin,
-                             const Eigen::Vector2d& direction) const {
-  Eigen::Vector2d a, b;
-  segmentAt(t, &a, &b);
+double capsuleRayHit(const Eigen::Vector2d& origin, const Eigen::Vector2d& direction,
+                     const Eigen::Vector2d& a, const Eigen::Vector2d& b, double radius) {
   double best = -1.0;
   auto take = [&best](double v) {
     if (v >= 0.0 && (best < 0.0 || v < best)) best = v;
@@ -61,9 +59,18 @@ double DynamicObject::rayHit(double t, const Eigen::Vector2d& origin,
   return best;
 }
 
+double DynamicObject::rayHit(double t, const Eigen::Vector2d& origin,
+                             const Eigen::Vector2d& direction) const {
+  Eigen::Vector2d a, b;
+  segmentAt(t, &a, &b);
+  return capsuleRayHit(origin, direction, a, b, radius);
+}
+
 bool readDynamicObjects(std::istream& in, const std::string& name,
-                        std::vector<DynamicObject>* objects, std::string* error) {
+                        std::vector<DynamicObject>* objects, std::string* error,
+                        std::vector<WorldRegion>* regions) {
   objects->clear();
+  if (regions != nullptr) regions->clear();
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
@@ -73,6 +80,23 @@ bool readDynamicObjects(std::istream& in, const std::string& name,
     std::istringstream fields(line);
     std::string kind;
     if (!(fields >> kind)) continue;
+    if (kind == "glass" || kind == "clutter") {
+      WorldRegion region;
+      std::string expected;
+      if (regions == nullptr || !parseWorldRegion(kind, fields, &region, &expected)) {
+        if (error) {
+          *error = "objects file '" + name + "' line " + std::to_string(number) + ": " +
+                   (regions == nullptr ? "regions (" + kind + ") are not read here"
+                                       : "expected " + expected) +
+                   ", got " + quotedForMessage(line);
+        }
+        objects->clear();
+        if (regions != nullptr) regions->clear();
+        return false;
+      }
+      regions->push_back(region);
+      continue;
+    }
     double v[7];
     std::string extra;
     bool ok = (kind == "disc" || kind == "bar");
@@ -95,11 +119,12 @@ bool readDynamicObjects(std::istream& in, const std::string& name,
     if (!ok) {
       if (error) {
         *error = "objects file '" + name + "' line " + std::to_string(number) +
-                 ": expected `disc T0 T1 X0 Y0 X1 Y1 R` or `bar T0 T1 AX AY BX BY R` (T1 >= T0, "
-                 "R > 0), got " +
+                 ": expected `disc T0 T1 X0 Y0 X1 Y1 R`, `bar T0 T1 AX AY BX BY R` (T1 >= T0, "
+                 "R > 0), `glass ...` or `clutter ...`, got " +
                  quotedForMessage(line);
       }
       objects->clear();
+      if (regions != nullptr) regions->clear();
       return false;
     }
     objects->push_back(o);
@@ -108,13 +133,13 @@ bool readDynamicObjects(std::istream& in, const std::string& name,
 }
 
 bool readDynamicObjects(const std::string& path, std::vector<DynamicObject>* objects,
-                        std::string* error) {
+                        std::string* error, std::vector<WorldRegion>* regions) {
   std::ifstream in(path);
   if (!in) {
     if (error) *error = "cannot read objects file '" + path + "'";
     return false;
   }
-  return readDynamicObjects(in, path, objects, error);
+  return readDynamicObjects(in, path, objects, error, regions);
 }
 
 int nearestObjectHit(const std::vector<DynamicObject>& objects, double t,

@@ -25,6 +25,72 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The final map's layers averaged over each kind of place of the world: the regions (glass,
+// clutter), the free cells people walked over, the walls' faces (obstacle cells beside a free one)
+// and the free space beyond the Θ-gap band at least kNearRegion from any region.
+std::vector<PlaceLayers> placeLayers(const GridmapSimulator& sim,
+                                     const std::vector<uint8_t>& beyond_gap, const LayerRaster& map,
+                                     const Pose2& start) {
+  const exploration::OccupancyImage& truth = sim.obstacles();
+  const exploration::GridGeometry& g = truth.geometry;
+  const exploration::GridGeometry m = exploration::GridGeometry::of(map);
+  const Pose2 truth_in_map = start.inverse();
+  const char* names[] = {"glass", "clutter", "people", "wall", "free"};
+  std::vector<PlaceLayers> out(5);
+  for (int k = 0; k < 5; ++k) out[k].kind = names[k];
+  for (int i = 0; i < g.size(); ++i) {
+    const Eigen::Vector2d p = g.center(i);
+    int kind = -1;
+    double nearest_region = 1e9;
+    for (const WorldRegion& r : sim.regions()) {
+      const double d = r.distanceTo(p);
+      nearest_region = std::min(nearest_region, d);
+      if (kind < 0 && d <= 0.5 * g.resolution) kind = r.kind == RegionKind::kGlass ? 0 : 1;
+    }
+    if (kind < 0 && truth.occupied[i]) {
+      const int c = g.col(i), row = g.row(i);
+      const bool face = (g.inside(c + 1, row) && !truth.occupiedAt(c + 1, row)) ||
+                        (g.inside(c - 1, row) && !truth.occupiedAt(c - 1, row)) ||
+                        (g.inside(c, row + 1) && !truth.occupiedAt(c, row + 1)) ||
+                        (g.inside(c, row - 1) && !truth.occupiedAt(c, row - 1));
+      if (face) kind = 3;
+    }
+    if (kind < 0 && !truth.occupied[i]) {
+      for (const DynamicObject& o : sim.objects()) {
+        if ((o.a0 - o.b0).norm() > 1e-9 || (o.a1 - o.b1).norm() > 1e-9) continue;  // bars
+        const WorldRegion swept{RegionKind::kGlass, o.a0, o.a1, o.radius, 0.0};
+        if (swept.contains(p)) {
+          kind = 2;
+          break;
+        }
+      }
+      if (kind < 0 && beyond_gap[i] && nearest_region >= kNearRegion) kind = 4;
+    }
+    if (kind < 0) continue;
+    const int j = m.indexOf(truth_in_map.transformPoint(p));
+    if (j < 0 || !map.observed[j]) continue;
+    PlaceLayers& l = out[kind];
+    ++l.cells;
+    l.betp += map.layer(Layer::kPignistic)[j];
+    l.ns += map.layer(Layer::kNonspecificity)[j];
+    l.ic += map.layer(Layer::kInternalConflict)[j];
+    l.ec += map.layer(Layer::kExternalConflict)[j];
+    l.entropy += map.layer(Layer::kEntropy)[j];
+  }
+  std::vector<PlaceLayers> kept;
+  for (PlaceLayers& l : out) {
+    if (l.cells == 0) continue;
+    const double n = static_cast<double>(l.cells);
+    l.betp /= n;
+    l.ns /= n;
+    l.ic /= n;
+    l.ec /= n;
+    l.entropy /= n;
+    kept.push_back(l);
+  }
+  return kept;
+}
+
 }  // namespace
 
 bool ExplorationRunConfig::isValid(std::string* why) const {
@@ -99,6 +165,14 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     last_position = scan.true_pose.translation();
     r.min_wall_distance_m = std::min(
         r.min_wall_distance_m, exploration::distanceToObstacle(truth, last_position, 1.0));
+    if (r.scans > 0) {
+      for (const WorldRegion& region : sim.regions()) {
+        if (region.distanceTo(last_position) <= kNearRegion) {
+          r.time_near_regions_s += sim_config.scan_period;
+          break;
+        }
+      }
+    }
     ++r.scans;
 
     Clock::time_point tick = Clock::now();
@@ -116,6 +190,10 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     }
     const exploration::VelocityCommand cmd = explorer.update(scan.stamp, pose, fresh);
     r.explorer_time_s += secondsSince(tick);
+    if (!explorer.fault().empty()) {
+      r.fault_time_s += sim_config.scan_period;
+      if (r.first_fault.empty()) r.first_fault = explorer.fault();
+    }
     sim.setVelocityCommand(cmd.linear, cmd.angular);
 
     if (explorer.done() || stopping || (progress && !progress(t, r))) break;
@@ -134,6 +212,7 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
   r.scans_processed = engine.stats().scans_processed;
   r.done = explorer.done();
   r.stop_reason = r.done ? explorer.stopMessage() : "max_time reached";
+  if (!explorer.fault().empty()) r.stop_reason += " (stopped by a fault: " + explorer.fault() + ")";
   r.explorer_stats = explorer.stats();
   r.final_map = raster;
   r.start_pose = start;
@@ -144,6 +223,7 @@ bool runExploration(const ExplorationRunConfig& config, ExplorationRunResult* re
     r.ate_rmse_m = ate.rmse;
     r.ate_max_m = ate.max_error;
   }
+  r.place_layers = placeLayers(sim, beyond_gap, *raster, start);
   r.wall_time_s = secondsSince(wall_start);
   return true;
 }
@@ -187,6 +267,15 @@ bool writeExplorationJson(const std::string& path, const ExplorationRunResult& r
                   {"no_path", r.explorer_stats.goals_no_path},
                   {"no_progress", r.explorer_stats.goals_no_progress},
                   {"replans", r.explorer_stats.replans}};
+    j["fault_time_s"] = r.fault_time_s;
+    j["first_fault"] = r.first_fault;
+    j["time_near_regions_s"] = r.time_near_regions_s;
+    nlohmann::ordered_json places = nlohmann::ordered_json::object();
+    for (const PlaceLayers& l : r.place_layers) {
+      places[l.kind] = {{"cells", l.cells}, {"betp", l.betp}, {"ns", l.ns},
+                        {"ic", l.ic},       {"ec", l.ec},     {"entropy", l.entropy}};
+    }
+    j["place_layers"] = places;
   }
   return writeFileAtomically(
       path, [&](std::ostream& out) { return static_cast<bool>(out << j.dump(2) << '\n'); }, error);

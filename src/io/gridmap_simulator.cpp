@@ -195,8 +195,8 @@ std::vector<GridmapSimulatorField> gridmapSimulatorFields(GridmapSimulatorConfig
        "rad, laser frame, last bearing it covers"},
       {"moving_object_distance", &c->moving_object_distance, "m, its distance from the laser"},
       {"objects", &c->objects,
-       "objects file: `disc T0 T1 X0 Y0 X1 Y1 R` / `bar T0 T1 AX AY BX BY R` per line (map "
-       "frame, s, m); \"\" = none"},
+       "objects file: `disc T0 T1 X0 Y0 X1 Y1 R` / `bar T0 T1 AX AY BX BY R` / `glass AX AY BX "
+       "BY R P` / `clutter AX AY BX BY R SIGMA` per line (map frame, s, m); \"\" = none"},
   };
 }
 
@@ -261,18 +261,21 @@ struct GridmapSimulator::Impl {
         // Separate streams: the laser's draws never shift the odometry's, so a fault that changes
         // what the laser sees leaves the odometry noise as it was.
         laser_rng(seededEngine(c.seed, 1)),
-        odometry_rng(seededEngine(c.seed, 2)) {}
+        odometry_rng(seededEngine(c.seed, 2)),
+        region_rng(seededEngine(c.seed, 3)) {}
 
   GridmapSimulatorConfig config;
   Pose2 laser_pose;
   mrpt::maps::COccupancyGridMap2D grid;
   std::vector<Eigen::Vector2d> waypoints;
   std::vector<DynamicObject> objects;
+  std::vector<WorldRegion> regions;
   size_t next_waypoint = 1;
   bool loaded = false;
 
   std::mt19937_64 laser_rng;
   std::mt19937_64 odometry_rng;
+  std::mt19937_64 region_rng;  // the regions' draws: the laser noise stays as without them
   std::normal_distribution<double> gaussian{0.0, 1.0};
 
   Pose2 truth;
@@ -308,6 +311,15 @@ struct GridmapSimulator::Impl {
     for (int r = 0; r < g.height; ++r) {
       for (int c = 0; c < g.width; ++c) {
         obstacles.occupied[g.index(c, r)] = grid.getCell(c, r) <= threshold_free ? 1 : 0;
+      }
+    }
+    // Glass and clutter stop the robot like walls: every cell whose centre lies within half a
+    // cell of a region (so a thin pane still has cells).
+    for (const WorldRegion& region : regions) {
+      for (int i = 0; i < g.size(); ++i) {
+        const Eigen::Vector2d centre(g.origin_x + (g.col(i) + 0.5) * g.resolution,
+                                     g.origin_y + (g.row(i) + 0.5) * g.resolution);
+        if (region.distanceTo(centre) <= 0.5 * g.resolution) obstacles.occupied[i] = 1;
       }
     }
   }
@@ -387,10 +399,10 @@ struct GridmapSimulator::Impl {
       return false;
     }
     if (!loadMap(error)) return false;
-    buildObstacles();
-    if (!config.objects.empty() && !readDynamicObjects(config.objects, &objects, error)) {
+    if (!config.objects.empty() && !readDynamicObjects(config.objects, &objects, error, &regions)) {
       return false;
     }
+    buildObstacles();
     if (!config.waypoints.empty()) {
       if (!readWaypoints(config.waypoints, &waypoints, error)) return false;
       // The run ends at the last waypoint: one far off the map would never be reached. Beyond a
@@ -549,6 +561,18 @@ struct GridmapSimulator::Impl {
           (*object_hit)[i] = k;
         }
       }
+      if (!regions.empty()) {
+        const double a = sensor.theta + bearing + direction_error;
+        double d = 0.0;
+        const double end = valid ? range : std::numeric_limits<double>::infinity();
+        if (castThroughRegions(regions, Eigen::Vector2d(sensor.x, sensor.y),
+                               Eigen::Vector2d(std::cos(a), std::sin(a)), end, &region_rng,
+                               &d) >= 0) {
+          range = static_cast<float>(d);
+          valid = true;
+          (*object_hit)[i] = -1;
+        }
+      }
       if (valid && range >= config.laser_max_range) {
         valid = false;
         (*object_hit)[i] = -1;
@@ -639,6 +663,8 @@ Eigen::Vector4d GridmapSimulator::mapBounds() const {
   return {g.getXMin(), g.getYMin(), g.getXMax(), g.getYMax()};
 }
 const GridmapSimulatorConfig& GridmapSimulator::config() const { return impl_->config; }
+const std::vector<DynamicObject>& GridmapSimulator::objects() const { return impl_->objects; }
+const std::vector<WorldRegion>& GridmapSimulator::regions() const { return impl_->regions; }
 
 // ------------------------------------------------------------------------------------------------
 // SimulationRecorder

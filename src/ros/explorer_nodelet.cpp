@@ -1,5 +1,8 @@
 #include "evidential_slam/ros/explorer_nodelet.h"
 
+#include <exception>
+#include <vector>
+
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/OccupancyGrid.h>
@@ -116,8 +119,29 @@ void ExplorerNodelet::onTimer(const ros::TimerEvent&) {
     finish("max_time reached");
     return;
   }
-  const exploration::VelocityCommand cmd =
-      explorer_->update(now.toSec(), pose2FromTransform(t.transform), fresh);
+  exploration::VelocityCommand cmd;
+  try {
+    cmd = explorer_->update(now.toSec(), pose2FromTransform(t.transform), fresh);
+  } catch (const std::exception& e) {
+    // A planner that throws (out of memory on a huge map, a bug) must not leave the robot
+    // driving on its last command.
+    NODELET_ERROR("explorer: the planner failed: %s", e.what());
+    finish(std::string("planner failed: ") + e.what());
+    return;
+  }
+  if (!explorer_->fault().empty()) {
+    NODELET_WARN_THROTTLE(5.0, "explorer: stopped: %s", explorer_->fault().c_str());
+  }
+  // Goals given up on (no path, no progress): said once in a while, with the count.
+  const std::vector<exploration::BlacklistEntry>& blacklist = explorer_->blacklist();
+  for (; blacklist_seen_ < blacklist.size(); ++blacklist_seen_) {
+    const exploration::BlacklistEntry& b = blacklist[blacklist_seen_];
+    if (b.why == "reached") continue;
+    NODELET_WARN_THROTTLE(5.0, "explorer: goal (%.2f, %.2f) blacklisted: %s (%lu given up so far)",
+                          b.position.x(), b.position.y(), b.why.c_str(),
+                          static_cast<unsigned long>(explorer_->stats().goals_no_path +
+                                                     explorer_->stats().goals_no_progress));
+  }
   geometry_msgs::Twist twist;
   twist.linear.x = cmd.linear;
   twist.angular.z = cmd.angular;

@@ -70,6 +70,53 @@ TEST(Explorer, WaitsForAMap) {
   EXPECT_EQ(explorer.stats().replans, 0u);
 }
 
+TEST(Explorer, AMapWithANonFiniteValueStopsTheRobotUntilAGoodMapComes) {
+  Explorer explorer{ExplorerConfig()};
+  const auto good = share(corridorOpenAtBothEnds());
+  const Pose2 pose(2.05, 1.05, M_PI);
+  VelocityCommand cmd = explorer.update(0.0, pose, good);
+  EXPECT_GT(cmd.linear, 0.0);
+  EXPECT_TRUE(explorer.fault().empty());
+  for (const Layer layer : {Layer::kPignistic, Layer::kNonspecificity, Layer::kEntropy}) {
+    LayerRaster bad = corridorOpenAtBothEnds();
+    bad.values[static_cast<int>(layer)][5 * 61 + 20] = std::nanf("");
+    cmd = explorer.update(0.1, pose, share(bad));
+    EXPECT_EQ(cmd.linear, 0.0);
+    EXPECT_EQ(cmd.angular, 0.0);
+    EXPECT_FALSE(explorer.done());
+    EXPECT_FALSE(explorer.hasGoal());
+    EXPECT_NE(explorer.fault().find("map refused"), std::string::npos) << explorer.fault();
+    EXPECT_NE(explorer.fault().find("cell 325"), std::string::npos) << explorer.fault();
+    // The last good map is not driven on either, until a good one comes.
+    cmd = explorer.update(2.0, pose);
+    EXPECT_EQ(cmd.linear, 0.0);
+    EXPECT_FALSE(explorer.fault().empty());
+    cmd = explorer.update(2.1, pose, good);
+    EXPECT_GT(cmd.linear, 0.0);
+    EXPECT_TRUE(explorer.fault().empty());
+  }
+  // An infinite EC is a long-contradicted cell, not a broken map.
+  LayerRaster conflict = corridorOpenAtBothEnds();
+  conflict.values[static_cast<int>(Layer::kExternalConflict)][325] = INFINITY;
+  cmd = explorer.update(3.0, pose, share(conflict));
+  EXPECT_TRUE(explorer.fault().empty()) << explorer.fault();
+  EXPECT_GT(cmd.linear, 0.0);
+}
+
+TEST(Explorer, ANonFinitePoseStopsTheRobot) {
+  Explorer explorer{ExplorerConfig()};
+  const auto map = share(corridorOpenAtBothEnds());
+  EXPECT_GT(explorer.update(0.0, Pose2(2.05, 1.05, M_PI), map).linear, 0.0);
+  const VelocityCommand cmd = explorer.update(0.1, Pose2(NAN, 1.05, M_PI));
+  EXPECT_EQ(cmd.linear, 0.0);
+  EXPECT_EQ(cmd.angular, 0.0);
+  EXPECT_EQ(explorer.fault(), "the pose or the time is not finite");
+  EXPECT_EQ(explorer.update(NAN, Pose2(2.0, 1.05, M_PI)).linear, 0.0);
+  EXPECT_GT(explorer.update(0.3, Pose2(2.0, 1.05, M_PI)).linear, 0.0);
+  EXPECT_TRUE(explorer.fault().empty());
+  EXPECT_FALSE(explorer.done());
+}
+
 TEST(Explorer, DrivesToTheNearerFrontierAndReplansAtItsRate) {
   Explorer explorer{ExplorerConfig()};  // strategy ns, 1 Hz
   const auto map = share(corridorOpenAtBothEnds());

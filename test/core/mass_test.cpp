@@ -137,6 +137,25 @@ TEST(MassTest, FuseDempsterHitAndMiss) {
   EXPECT_NEAR(g.free, 0.59677419355, kFloat);
 }
 
+// A scan's mass of a cell that many beams cross, hit by some (a person beside the laser) and
+// cleared by the rest, fused beam by beam: it stays a mass. The first value is one a run reached
+// (m(Θ) = -1.2e-7 by rounding); fused on with the old rule it went negative, then to inf and NaN.
+TEST(MassTest, FuseDempsterStaysInTheSimplexOverManyBeams) {
+  const ScanMass hit{0.62183398f, 8.91711443e-06f}, near_hit{0.000141955345f, 0.607165754f};
+  const ScanMass miss{0.0f, 0.8f};
+  auto inSimplex = [](const ScanMass& m) {
+    return std::isfinite(m.occupied) && std::isfinite(m.free) && m.occupied >= 0.0f &&
+           m.free >= 0.0f && m.occupied + m.free <= 1.0f + 1e-6f;
+  };
+  ScanMass m{1.10691966e-13f, 1.00000012f};
+  std::mt19937 rng(3);
+  for (int i = 0; i < 100000; ++i) {
+    const int k = static_cast<int>(rng() % 5);
+    m = fuseDempster(m, k == 0 ? hit : k == 1 ? near_hit : miss);
+    ASSERT_TRUE(inSimplex(m)) << "beam " << i << ": o " << m.occupied << " e " << m.free;
+  }
+}
+
 // The m1/m2 worked example on ScanMass: o = 0.36/0.68, e = 0.23/0.68.
 TEST(MassTest, FuseDempsterWorkedExample) {
   const ScanMass f = fuseDempster(ScanMass{0.6f, 0.1f}, ScanMass{0.2f, 0.5f});

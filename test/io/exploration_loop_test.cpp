@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +17,8 @@
 
 namespace evidential_slam {
 namespace {
+
+namespace fs = std::filesystem;
 
 io::ExplorationRunConfig twoRoomRun(const std::string& strategy) {
   io::ExplorationRunConfig c;
@@ -99,6 +103,54 @@ TEST(ExplorationLoop, NonSpecificityStrategyExploresTheTwoRooms) {
 
 TEST(ExplorationLoop, FrontierStrategyExploresTheTwoRooms) {
   exploreAndCheck("frontier");
+}
+
+// A glass pane and clutter in the left room (objects file): the run reports the time the robot
+// spent near them and what the final map holds there. The pane's beams pass or return at random,
+// the clutter's scatter: both contradict the map scan after scan (EC), the free space does not.
+TEST(ExplorationLoop, RegionsAreMeasuredWhereTheyAre) {
+  io::ExplorationRunConfig c = twoRoomRun("ns");
+  const fs::path objects = test::scratchDir() / "objects.txt";
+  test::writeText(objects,
+                  "glass -3 1 -3 3 0.025 0.5\n"
+                  "clutter -6.5 -3 -5.5 -3 0.2 0.3\n");  // 0.8 m from the start
+  c.simulator.objects = objects.string();
+  c.slam.particles = 30;
+  c.max_time = 60.0;
+  io::ExplorationRunResult r;
+  std::string error;
+  ASSERT_TRUE(io::runExploration(c, &r, &error)) << error;
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_GT(r.time_near_regions_s, 0.0);
+  EXPECT_LE(r.time_near_regions_s, r.sim_time_s);
+  std::map<std::string, io::PlaceLayers> places;
+  for (const io::PlaceLayers& l : r.place_layers) places[l.kind] = l;
+  ASSERT_EQ(places.count("glass"), 1u);
+  ASSERT_EQ(places.count("clutter"), 1u);
+  ASSERT_EQ(places.count("free"), 1u);
+  ASSERT_EQ(places.count("wall"), 1u);
+  EXPECT_EQ(places.count("people"), 0u);  // no disc in the file
+  EXPECT_GT(places["glass"].cells, 20u);
+  EXPECT_GT(places["clutter"].cells, 20u);
+  for (const char* kind : {"glass", "clutter", "free", "wall"}) {
+    const io::PlaceLayers& l = places[kind];
+    std::printf("%s: %llu cells, BetP %.3f, NS %.3f, IC %.4f, EC %.3f, H %.3f\n", kind,
+                static_cast<unsigned long long>(l.cells), l.betp, l.ns, l.ic, l.ec, l.entropy);
+  }
+  EXPECT_GT(places["glass"].ec, 1.0);
+  for (const char* kind : {"glass", "clutter"}) {
+    EXPECT_GT(places[kind].ec, 10.0 * places["free"].ec) << kind;
+  }
+  EXPECT_LT(places["free"].betp, 0.1);
+  EXPECT_GT(places["wall"].betp, 0.6);
+  const std::string path = (test::scratchDir() / "exploration.json").string();
+  ASSERT_TRUE(io::writeExplorationJson(path, r, &error)) << error;
+  const nlohmann::json j = nlohmann::json::parse(test::readText(path));
+  EXPECT_DOUBLE_EQ(j.at("time_near_regions_s").get<double>(), r.time_near_regions_s);
+  // No map was refused, the pose was always finite: no fault.
+  EXPECT_EQ(j.at("fault_time_s").get<double>(), 0.0);
+  EXPECT_EQ(j.at("first_fault").get<std::string>(), "");
+  EXPECT_DOUBLE_EQ(j.at("place_layers").at("glass").at("ec").get<double>(), places["glass"].ec);
 }
 
 TEST(ExplorationLoop, BadConfigurationIsRefused) {

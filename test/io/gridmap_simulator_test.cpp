@@ -345,6 +345,102 @@ TEST(GridmapSimulator, ABadObjectsFileGivesAOneLineErrorNamingTheLine) {
   EXPECT_NE(error.find("line 1"), std::string::npos) << error;
 }
 
+TEST(GridmapSimulator, GlassPassesEachBeamWithItsProbabilityAndReturnsTheRestAtItsFace) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.laser_rays = 181;
+  c.laser_x = 0.0;
+  // A pane 0.1 m thick along x = 2, |y| <= 3, ahead of the robot at the origin: every ray within
+  // 55 degrees of ahead crosses it (atan(3 / 2.05) = 55.7 degrees).
+  const fs::path objects = dir / "objects.txt";
+  for (const double p : {0.3, 0.8}) {
+    std::ostringstream text;
+    text << "glass 2 -3 2 3 0.05 " << p << "\n";
+    test::writeText(objects, text.str());
+    c.objects = objects.string();
+    const auto scans = runAll(c, 60);
+    ASSERT_EQ(scans.size(), 60u);
+    size_t passed = 0, returned = 0;
+    for (const SimulatedScan& s : scans) {
+      for (size_t k = 0; k < s.scan.ranges.size(); ++k) {
+        const double b = s.scan.bearings[k];
+        if (std::abs(b) > 55.0 * M_PI / 180.0) continue;
+        ASSERT_TRUE(s.scan.valid[k]);
+        if (std::abs(s.scan.ranges[k] - 1.95 / std::cos(b)) < 1e-3) {
+          ++returned;
+        } else {
+          EXPECT_NEAR(s.scan.ranges[k], distanceToRoomWall(0, 0, b), kResolution);
+          ++passed;
+        }
+      }
+    }
+    // 60 scans x 111 rays: the binomial's sigma is below 0.006.
+    const double fraction = static_cast<double>(passed) / static_cast<double>(passed + returned);
+    EXPECT_EQ(passed + returned, 60u * 111u);
+    EXPECT_NEAR(fraction, p, 0.025) << "pass probability " << p;
+  }
+}
+
+TEST(GridmapSimulator, ClutterReturnsBeamsWithItsRangeScatterAndStopsTheRobot) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  c.laser_rays = 181;
+  c.laser_x = 0.0;
+  // Clutter round x = 2.5, |y| <= 1, 0.5 m deep on either side: its face is x = 2 for |y| <= 1.
+  const fs::path objects = dir / "objects.txt";
+  test::writeText(objects, "clutter 2.5 -1 2.5 1 0.5 0.2\n");
+  c.objects = objects.string();
+  const auto scans = runAll(c, 60);
+  double sum = 0.0, sum2 = 0.0;
+  size_t n = 0;
+  for (const SimulatedScan& s : scans) {
+    for (size_t k = 0; k < s.scan.ranges.size(); ++k) {
+      const double b = s.scan.bearings[k];
+      if (std::abs(2.0 * std::tan(b)) > 0.9) continue;  // rays meeting the flat face
+      const double e = s.scan.ranges[k] - 2.0 / std::cos(b);
+      sum += e;
+      sum2 += e * e;
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 1000u);
+  const double mean = sum / n, stddev = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 0.02);
+  EXPECT_NEAR(stddev, 0.2, 0.02);
+  // The robot (radius 0.2) driving ahead stops at the clutter: one collision, at x = 1.8.
+  GridmapSimulator sim(c);
+  std::string error;
+  ASSERT_TRUE(sim.load(&error)) << error;
+  sim.setVelocityCommand(0.5, 0.0);
+  SimulatedScan s;
+  for (int i = 0; i < 100 && sim.step(&s); ++i) {
+  }
+  EXPECT_EQ(sim.collisions(), 1u);
+  EXPECT_NEAR(sim.truePose().x, 2.0 - kResolution / 2 - c.robot_radius, kResolution);
+  ASSERT_EQ(sim.regions().size(), 1u);
+  EXPECT_EQ(sim.regions()[0].kind, io::RegionKind::kClutter);
+}
+
+TEST(GridmapSimulator, ABadRegionLineGivesAOneLineErrorNamingTheLine) {
+  const fs::path dir = test::scratchDir();
+  GridmapSimulatorConfig c = roomConfig(dir);
+  const fs::path objects = dir / "objects.txt";
+  c.objects = objects.string();
+  for (const char* text : {"glass 0 0 1 1 0.1 1.5\n",     // pass probability above 1
+                           "glass 0 0 1 1 0.1\n",         // no probability
+                           "clutter 0 0 1 1 0.1 0\n",     // no scatter
+                           "clutter 0 0 1 1 -0.1 0.2\n",  // negative radius
+                           "glass 0 0 1 1 0.1 0.5 7\n"}) {
+    test::writeText(objects, std::string("disc 0 1 0 0 1 1 0.3\n") + text);
+    GridmapSimulator sim(c);
+    std::string error;
+    EXPECT_FALSE(sim.load(&error)) << text;
+    EXPECT_NE(error.find("line 2"), std::string::npos) << error;
+    EXPECT_NE(error.find(std::string(text).substr(0, 5)), std::string::npos) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+}
+
 TEST(GridmapSimulator, TruthScansFileHoldsPosesRangesAndObjectHits) {
   const fs::path dir = test::scratchDir();
   GridmapSimulatorConfig c = roomConfig(dir);

@@ -40,16 +40,28 @@ struct ScanMass {
 };
 
 // Dempster's rule for two conflict-free scan masses (used to fuse beams within one scan).
+// The result is kept in the simplex: in float, a cell that many beams of one scan cross (a person
+// beside the laser) drifted to m(Θ) < 0, the next fusions amplified the drift, and the scan's mass
+// there became inf, then NaN (and so did the map cell's λ). Inside the simplex the clamps change
+// nothing.
 inline ScanMass fuseDempster(const ScanMass& a, const ScanMass& b) {
-  const float a_u = a.unknown(), b_u = b.unknown();
+  const float a_u = std::max(a.unknown(), 0.0f), b_u = std::max(b.unknown(), 0.0f);
   ScanMass r;
   r.occupied = a.occupied * b.occupied + a.occupied * b_u + a_u * b.occupied;
   r.free = a.free * b.free + a.free * b_u + a_u * b.free;
   const float conflict = a.occupied * b.free + a.free * b.occupied;
-  if (conflict == 0.0f) return r;  // most cells: clearing beams only (dividing by 1 is exact)
-  const float norm = std::max(1.0f - conflict, 1e-12f);
-  r.occupied /= norm;
-  r.free /= norm;
+  if (conflict != 0.0f) {  // most cells: clearing beams only (dividing by 1 is exact)
+    const float norm = std::max(1.0f - conflict, 1e-12f);
+    r.occupied /= norm;
+    r.free /= norm;
+  }
+  r.occupied = std::max(r.occupied, 0.0f);
+  r.free = std::max(r.free, 0.0f);
+  const float sum = r.occupied + r.free;
+  if (sum > 1.0f) {
+    r.occupied /= sum;
+    r.free = 1.0f - r.occupied;
+  }
   return r;
 }
 

@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "evidential_slam/io/world_regions.h"
+
 namespace evidential_slam {
 namespace io {
 
@@ -27,14 +29,23 @@ struct DynamicObject {
   double rayHit(double t, const Eigen::Vector2d& origin, const Eigen::Vector2d& direction) const;
 };
 
+// Distance along the ray from `origin` in unit `direction` to the capsule of `radius` round
+// segment a-b, or a negative value when the ray misses it (a ray starting inside it hits at 0).
+double capsuleRayHit(const Eigen::Vector2d& origin, const Eigen::Vector2d& direction,
+                     const Eigen::Vector2d& a, const Eigen::Vector2d& b, double radius);
+
 // Reads an objects file, one object a line (blank lines and text after '#' ignored):
 //   disc T0 T1 X0 Y0 X1 Y1 R      a disc of radius R going from (X0, Y0) at T0 to (X1, Y1) at T1
 //   bar  T0 T1 AX AY BX BY R      a fixed capsule around segment A-B (a parked box, a door panel)
-// False with a one-line `error` naming the file and line on anything else, T1 < T0 or R <= 0.
+//   glass AX AY BX BY R P         world_regions.h: beams pass with probability P
+//   clutter AX AY BX BY R SIGMA   world_regions.h: beams return with SIGMA m of range scatter
+// Region lines go to `regions` (nullptr: they are an error). False with a one-line `error` naming
+// the file and line on anything else, T1 < T0, R <= 0, P outside [0, 1] or SIGMA <= 0.
 bool readDynamicObjects(std::istream& in, const std::string& name,
-                        std::vector<DynamicObject>* objects, std::string* error);
+                        std::vector<DynamicObject>* objects, std::string* error,
+                        std::vector<WorldRegion>* regions = nullptr);
 bool readDynamicObjects(const std::string& path, std::vector<DynamicObject>* objects,
-                        std::string* error);
+                        std::string* error, std::vector<WorldRegion>* regions = nullptr);
 
 // The nearest object present at t along the ray: its index and distance (-1 and a negative
 // distance when none).

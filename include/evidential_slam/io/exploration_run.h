@@ -38,6 +38,14 @@ struct CoverageSample {
   double coverage = 0.0;  // exploration::knownFraction of the reachable free cells
 };
 
+// Mean layers of the final map over one kind of place of the world (the truth's cells of that kind
+// whose map cell holds evidence).
+struct PlaceLayers {
+  std::string kind;  // glass, clutter, people (free cells a person walked over), wall, free
+  uint64_t cells = 0;
+  double betp = 0.0, ns = 0.0, ic = 0.0, ec = 0.0, entropy = 0.0;
+};
+
 struct ExplorationRunResult {
   double final_coverage = 0.0;
   std::vector<CoverageSample> coverage;  // every coverage_period, and at the end
@@ -63,16 +71,28 @@ struct ExplorationRunResult {
   // poses of every scan (core/metrics.h: SE(2)-aligned RMSE and maximum); < 0: not measured.
   double ate_rmse_m = -1.0;
   double ate_max_m = -1.0;
+  // Simulated s the explorer held the robot stopped for a fault (Explorer::fault(): a map with a
+  // non-finite value, a non-finite pose), and the first such fault ("" when none).
+  double fault_time_s = 0.0;
+  std::string first_fault;
+  // Simulated s with the robot's centre within kNearRegion m of a glass or clutter region.
+  double time_near_regions_s = 0.0;
+  // At the end, per kind of place (kinds without a cell are left out).
+  std::vector<PlaceLayers> place_layers;
   double wall_time_s = 0.0;
   double slam_time_s = 0.0;     // inside processScan
   double explorer_time_s = 0.0;  // raster extraction and Explorer::update
   exploration::ExplorerStats explorer_stats;
   // False when the run was watched from outside (the ROS monitor): processing times, scans
-  // processed and the goal counts were not measured and are left out of exploration.json.
+  // processed, the goal counts, the faults, the time near regions and the place layers were not
+  // measured and are left out of exploration.json.
   bool internals_measured = true;
   std::shared_ptr<const LayerRaster> final_map;  // the best map at the end, as a raster
   Pose2 start_pose;                              // the robot's true start (the map frame)
 };
+
+// "Near" a glass or clutter region for time_near_regions_s (m from the robot's centre).
+constexpr double kNearRegion = 1.0;
 
 // Called after every scan with the simulated time (s since the first scan); return false to stop.
 using ExplorationProgress = std::function<bool(double time, const ExplorationRunResult& so_far)>;

@@ -20,6 +20,7 @@
 #include "evidential_slam/core/exploration/coverage.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/pose2.h"
+#include "evidential_slam/io/dynamic_objects.h"
 
 namespace evidential_slam {
 namespace io {
@@ -79,7 +80,8 @@ struct GridmapSimulatorConfig {
   double moving_object_bearing_min = 0.0;  // ray whose bearing (rad, laser frame) lies in
   double moving_object_bearing_max = 0.0;  // [bearing_min, bearing_max]
   double moving_object_distance = 1.0;     // m
-  // Objects file (dynamic_objects.h): people, boxes, doors in the world frame; "" = none.
+  // Objects file (dynamic_objects.h): people, boxes, doors in the world frame, and regions of
+  // glass and clutter (world_regions.h); "" = none.
   std::string objects;
 
   bool hasKidnap() const { return kidnap_time >= 0.0; }
@@ -115,7 +117,8 @@ struct SimulatedScan {
   LaserScan scan;            // bearings right to left, valid = 0 for "no return"
   bool kidnapped = false;    // the kidnap happened just before this scan
   bool moving_object = false;
-  // Per ray, the index of the object (config.objects) it ended on, -1 for a wall or no return.
+  // Per ray, the index of the object (config.objects) it ended on, -1 for a wall, a glass or
+  // clutter region, or no return.
   std::vector<int> object_hit;
   uint64_t collisions = 0;  // collisions so far: each time the robot's disc ran into a wall
   bool in_contact = false;  // a wall stopped the robot and it has not moved 1 cm away since
@@ -159,6 +162,9 @@ class GridmapSimulator {
   // stops rays and the robot, and the ground truth of exploration coverage.
   const exploration::OccupancyImage& obstacles() const;
   const GridmapSimulatorConfig& config() const;
+  // What the objects file holds (empty before load() or without one).
+  const std::vector<DynamicObject>& objects() const;
+  const std::vector<WorldRegion>& regions() const;
 
  private:
   struct Impl;

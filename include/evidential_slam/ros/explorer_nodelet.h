@@ -51,6 +51,7 @@ class ExplorerNodelet : public nodelet::Nodelet {
   std::shared_ptr<const LayerRaster> map_;      // the last one given to the explorer
   double start_time_ = -1.0;                    // of the first control step with a map
   uint64_t replans_seen_ = 0;
+  size_t blacklist_seen_ = 0;  // blacklist entries already reported
   bool finished_ = false;
 };
 

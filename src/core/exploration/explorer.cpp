@@ -18,6 +18,30 @@ bool ExplorerConfig::isValid(std::string* why) const {
 
 Explorer::Explorer(const ExplorerConfig& config) : config_(config) {}
 
+namespace {
+
+// The first layer the explorer reads that holds a non-finite value ("BetP(o) at cell 12: nan"),
+// or "" (EC may be +inf, never NaN).
+std::string nonFiniteLayer(const LayerRaster& map) {
+  const size_t n = static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
+  const std::pair<Layer, const char*> layers[] = {{Layer::kPignistic, "BetP(o)"},
+                                                  {Layer::kNonspecificity, "NS"},
+                                                  {Layer::kEntropy, "H(BetP)"},
+                                                  {Layer::kExternalConflict, "EC"}};
+  for (const auto& [layer, name] : layers) {
+    const std::vector<float>& v = map.layer(layer);
+    if (v.size() < n) return std::string(name) + " has fewer values than cells";
+    for (size_t i = 0; i < n; ++i) {
+      if (layer == Layer::kExternalConflict ? std::isnan(v[i]) : !std::isfinite(v[i])) {
+        return std::string(name) + " at cell " + std::to_string(i) + ": " + std::to_string(v[i]);
+      }
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 bool Explorer::wantsMap(double time) const {
   return !done() && (!map_ || !has_goal_ || time >= next_replan_);
 }
@@ -36,10 +60,30 @@ void Explorer::addToBlacklist(const Eigen::Vector2d& position, double time,
 
 VelocityCommand Explorer::update(double time, const Pose2& pose,
                                  std::shared_ptr<const LayerRaster> map) {
-  // A map without a single observed cell is no map yet (nothing integrated): it would read as
-  // "no frontier left".
-  if (map && std::find(map->observed.begin(), map->observed.end(), 1) != map->observed.end()) {
-    map_ = std::move(map);
+  if (map) {
+    const std::string bad = nonFiniteLayer(*map);
+    if (!bad.empty()) {
+      // A map that cannot be read must not be driven on, nor the one before it (the SLAM that
+      // made it is in trouble): stop until a good one comes.
+      map_.reset();
+      has_goal_ = false;
+      path_.clear();
+      map_failed_ = true;
+      fault_ = "map refused: " + bad;
+      return {};
+    }
+    // A map without a single observed cell is no map yet (nothing integrated): it would read as
+    // "no frontier left".
+    if (std::find(map->observed.begin(), map->observed.end(), 1) != map->observed.end()) {
+      map_ = std::move(map);
+      map_failed_ = false;
+    }
+  }
+  if (!map_failed_) fault_.clear();
+  if (!std::isfinite(time) || !std::isfinite(pose.x) || !std::isfinite(pose.y) ||
+      !std::isfinite(pose.theta)) {
+    if (!map_failed_) fault_ = "the pose or the time is not finite";
+    return {};
   }
   if (done() || !map_) return {};
   if (!has_goal_ || time >= next_replan_) replan(time, pose);

@@ -60,10 +60,15 @@ class Explorer {
 
   // Call at the control rate with the time (s), the robot's pose in the map's frame and, when a
   // new one is at hand, the latest map (nullptr: keep the last; a map with no observed cell is
-  // ignored). Replans every 1 / planner_frequency s, and at once when there is no goal or the
-  // goal was reached. Returns the velocity command; (0, 0) without a map and once done.
+  // ignored; a map with a non-finite value stops the robot: fault()). Replans every 1 /
+  // planner_frequency s, and at once when there is no goal or the goal was reached. Returns the
+  // velocity command; (0, 0) without a map and once done.
   VelocityCommand update(double time, const Pose2& pose,
                          std::shared_ptr<const LayerRaster> map = nullptr);
+  // Why the robot is stopped without being done, empty otherwise: the last map given held a
+  // non-finite BetP(o), NS, H(BetP) or EC (it is dropped, with the last good one: the robot waits
+  // for the next good map), or the pose or time of this update is not finite.
+  const std::string& fault() const { return fault_; }
   // True when the next update() would replan: a caller that extracts rasters on demand gives a
   // fresh one then.
   bool wantsMap(double time) const;
@@ -101,6 +106,8 @@ class Explorer {
   std::vector<BlacklistEntry> blacklist_;
   StopReason stop_reason_ = StopReason::kNone;
   std::string stop_message_;
+  std::string fault_;
+  bool map_failed_ = false;  // the last map given was refused (fault_ says why)
   ExplorerStats stats_;
 };
 
