@@ -11,8 +11,15 @@ What it makes and why:
   sim.GT.txt        the true pose of every scan, `t x y phi`, same timestamps as the scans.
   sim_first_half.evmap  the map file of sim.rawlog's first 80 scans, written by
                     evidential_slam_offline (--preset sim, K = 20, seed 3): the map the node
-                    starts on in test/ros/slam_map_file.test. `--map-only` remakes just this one
+                    starts on in test/ros/slam_map_file.test. `--map-only` remakes just the map files
                     from the committed sim.rawlog (after a change of the map file's format).
+  moved_box_day1.evmap  day 1 of test/ros/slam_map_file_moved.test: three laps of
+                    moved_box_route.txt through sim_map.png's left room with the box of
+                    moved_box_day1.objects, simulated by evidential_slam_simulate (0.2 s scans,
+                    seed 1) and mapped by evidential_slam_offline (--preset sim, K = 20, seed 3,
+                    update_min_distance 0.2 as in the test) with unbounded cells (flip_scans 0):
+                    the box's day-2 place is free with full confidence (m(Θ) = 0), the case a
+                    node without bounded confidence never changes. `--map-only` remakes it too.
 The intermediate .gridmap.gz and pose list are written to a temporary directory.
 
 simul-gridmap writes zero odometry increments and no MRPT tool converts between the two rawlog
@@ -136,6 +143,29 @@ def make_map_file(offline, out_dir):
     print("wrote %s" % target)
 
 
+def make_moved_box_map(offline, out_dir):
+    """moved_box_day1.evmap: three laps of the left room with the box at its day-1 place."""
+    simulate = os.path.join(os.path.dirname(offline), "evidential_slam_simulate")
+    here = os.path.dirname(os.path.abspath(__file__))
+    lap = [l for l in open(os.path.join(here, "moved_box_route.txt"))
+           if l.strip() and not l.startswith("#")]
+    with tempfile.TemporaryDirectory() as tmp:
+        route = os.path.join(tmp, "route.txt")
+        with open(route, "w") as f:
+            f.writelines(lap + lap[1:] + lap[1:])
+        rawlog = os.path.join(tmp, "day1.rawlog")
+        run(simulate, "--map", os.path.join(here, "sim_map.png"), "--waypoints", route,
+            "--objects", os.path.join(here, "moved_box_day1.objects"), "--scan-period", "0.2",
+            "--seed", "1", "--out", rawlog, "--quiet")
+        out = os.path.join(tmp, "out")
+        run(offline, "--rawlog", rawlog, "--out", out, "--preset", "sim", "--particles", "20",
+            "--seed", "3", "--threads", "2", "--param", "update_min_distance=0.2", "--param",
+            "flip_scans=0", "--quiet")
+        target = os.path.join(out_dir, "moved_box_day1.evmap")
+        os.replace(os.path.join(out, "map.evmap"), target)
+    print("wrote %s" % target)
+
+
 def main():
     args = sys.argv[1:]
     map_only = "--map-only" in args
@@ -148,6 +178,7 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     if map_only:
         make_map_file(offline, out_dir)
+        make_moved_box_map(offline, out_dir)
         return
     map_png = os.path.join(out_dir, "sim_map.png")
     write_png(map_png, draw_map())
@@ -192,6 +223,7 @@ def main():
         run(tool, "to-observations", rawlog, os.path.join(out_dir, "sim_obs.rawlog"))
     print("wrote %s, %s and sim_obs.rawlog (%d scans), %s" % (map_png, rawlog, len(stamps), gt))
     make_map_file(offline, out_dir)
+    make_moved_box_map(offline, out_dir)
 
 
 if __name__ == "__main__":
