@@ -24,6 +24,16 @@ the best rigid fit of the run's trajectory to its ground truth):
            occupied;
   ATE      of each run (summary.json).
 Also the median anomaly (bits, anomaly layer) over the added and removed cells after pass 1.
+
+--within-run: changes inside one run instead (the same hall, pillar and stub fixed). A lap with
+room A's door open and a 1.0 x 0.8 m cart parked in the middle band; at the lap's end (the time
+from simulating the first lap alone) the door closes, a 1.0 x 0.8 m box appears on floor the lap
+saw free and the cart goes (bar objects of evidential_slam_simulate --objects); then --passes more
+laps, all one rawlog. Our SLAM runs on it stopped at the end of lap 1, 2, 3 after the change
+(--max-scans: the map /map shows at that moment), the log-odds peer on the scans and poses of each.
+Scores: the door's and the box's hit cells (seen from the route after the change) occupied within
+one cell, the cart's hit cells (seen before) free, and the ATE of the whole run. --check turns it
+into the CI smoke test.
 Standard library only: /usr/bin/python3 bench/map_dynamics.py --help
 """
 
@@ -93,8 +103,8 @@ def write_png(path, w, h, rows, color_type):
         f.write(chunk(b"IEND", b""))
 
 
-def make_worlds(rng):
-    """Day-1 and day-2 worlds and the changed objects' cell sets (world cells)."""
+def make_base():
+    """The hall, room A (door open) and the fixed furniture and pillars."""
     base = World()
     t = 0.2
     base.box(0, 0, W_M, t)
@@ -111,6 +121,12 @@ def make_worlds(rng):
     for x in (7.0, 12.0, 17.0):  # fixed pillars along the hall's walls
         base.box(x, 4.2, x + 0.4, 4.6)
         base.box(x + 2.0, H_M - t - 0.4, x + 2.4, H_M - t)
+    return base
+
+
+def make_worlds(rng):
+    """Day-1 and day-2 worlds and the changed objects' cell sets (world cells)."""
+    base = make_base()
     # The changed objects, in the middle band y 7.4 .. 10.6 (the route runs at y 6 and 12), apart.
     slots = rng.sample([5.0, 8.5, 12.0, 15.5, 19.0], 3)
     pillar_x, box_x, stub_x = slots
@@ -217,11 +233,17 @@ def visible_surface(world, rect, poses, max_range=20.0):
     """World cells of the object `rect` with a free 4-neighbour that one of `poses` (GT, robot
     frame ~ laser, 180 deg ahead) sees unobstructed within max_range."""
     x0, y0, x1, y1 = (px(v) for v in rect)
+    return visible_cells(world, [(cx, cy) for cy in range(y0, y1) for cx in range(x0, x1)], poses,
+                         max_range)
+
+
+def visible_cells(world, footprint, poses, max_range=20.0):
+    """The cells of `footprint` (world cells, obstacles in `world`) with a free 4-neighbour that
+    one of `poses` sees unobstructed within max_range."""
     cells = []
-    for cy in range(y0, y1):
-        for cx in range(x0, x1):
-            if any(not world.at(cx + dx, cy + dy) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))):
-                cells.append((cx, cy))
+    for cx, cy in footprint:
+        if any(not world.at(cx + dx, cy + dy) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))):
+            cells.append((cx, cy))
     seen = []
     for cx, cy in cells:
         tx, ty = (cx + 0.5) * RES, (cy + 0.5) * RES
@@ -324,6 +346,172 @@ def write_figure(path, maps, aligns, added_world, removed_cells, last):
     write_png(path, 2 * w + 2, h, rows, 2)
 
 
+def capsule_cells(a, b, r):
+    """World cells whose centre lies within r of segment a-b (a `bar` object's footprint)."""
+    cells = []
+    for cy in range(px(min(a[1], b[1]) - r) - 1, px(max(a[1], b[1]) + r) + 1):
+        for cx in range(px(min(a[0], b[0]) - r) - 1, px(max(a[0], b[0]) + r) + 1):
+            x, y = (cx + 0.5) * RES, (cy + 0.5) * RES
+            dx, dy = b[0] - a[0], b[1] - a[1]
+            u = max(0.0, min(1.0, ((x - a[0]) * dx + (y - a[1]) * dy) / max(1e-12, dx * dx + dy * dy)))
+            if math.hypot(x - a[0] - u * dx, y - a[1] - u * dy) <= r:
+                cells.append((cx, cy))
+    return cells
+
+
+def pass_ends(gt, start=(4.0, 6.0)):
+    """Indices of the scans at which the robot is back at `start` after a lap of the hall."""
+    ends, away = [], False
+    for i, (_, x, y, _) in enumerate(gt):
+        d = math.hypot(x - start[0], y - start[1])
+        if d > 3.0:
+            away = True
+        elif d < 0.2 and away:
+            ends.append(i)
+            away = False
+    return ends
+
+
+def within_run(args, seed, methods, rows):
+    """One run of the hall with changes half-way (issue 51's within-run case): a lap with room
+    A's door open and a cart parked in the hall, then at the lap's end the door closes, a box is
+    placed in hall floor the first lap saw free and the cart is taken away; `passes` more laps.
+    Each map is scored as /map shows it at the end of lap 1, 2, 3 after the change."""
+    rng = random.Random(seed)
+    work = os.path.join(args.work, f"within_{seed}")
+    os.makedirs(work, exist_ok=True)
+    sim = os.path.join(args.bin, "evidential_slam_simulate")
+    offline = os.path.join(args.bin, "evidential_slam_offline")
+    baseline = os.path.join(args.bin, "evidential_slam_logodds_baseline")
+    base = make_base()
+    pillar_x, stub_x, box_x, cart_x = rng.sample([5.0, 8.5, 12.0, 15.5, 19.0], 4)
+    py, sy = rng.uniform(7.6, 10.0), rng.uniform(7.6, 8.9)
+    base.box(pillar_x, py, pillar_x + 0.5, py + 0.5)  # fixed in this run
+    base.box(stub_x, sy, stub_x + 0.2, sy + 1.5)
+    # A 1.0 x 0.8 m box and cart: capsules round a 0.2 m segment, radius 0.4.
+    box_c = (box_x + 0.5, rng.uniform(8.0, 10.2))
+    cart_c = (cart_x + 0.5, rng.uniform(8.0, 10.2))
+    box = ((box_c[0] - 0.1, box_c[1]), (box_c[0] + 0.1, box_c[1]), 0.4)
+    cart = ((cart_c[0] - 0.1, cart_c[1]), (cart_c[0] + 0.1, cart_c[1]), 0.4)
+    door = ((3.0, 4.1), (4.0, 4.1), 0.1)
+    base.write_png(os.path.join(work, "world.png"))
+    write_waypoints(os.path.join(work, "lap.txt"), HALL_LOOP)
+    write_waypoints(os.path.join(work, "route.txt"), HALL_LOOP + HALL_LOOP[1:] * args.passes)
+    sim_cmd = [sim, "--map", os.path.join(work, "world.png"), "--resolution", str(RES),
+               "--origin-x", "0", "--origin-y", "0", "--seed", str(seed * 10)]
+    # The first lap alone gives the time of the change: its end (the truth does not depend on
+    # the noise or the objects).
+    lap = os.path.join(work, "lap.rawlog")
+    run(sim_cmd + ["--waypoints", os.path.join(work, "lap.txt"), "--out", lap], lap + ".txt")
+    t_change = read_gt(lap + ".GT.txt")[-1][0]
+    with open(os.path.join(work, "objects.txt"), "w") as f:
+        for (a, b, r), t0, t1, kind in ((door, t_change, 1e6, "door closes"),
+                                        (box, t_change, 1e6, "box placed"),
+                                        (cart, 0.0, t_change, "cart removed")):
+            f.write("bar %.3f %.3f %.3f %.3f %.3f %.3f %.3f  # %s\n" % (t0, t1, *a, *b, r, kind))
+    rawlog = os.path.join(work, "run.rawlog")
+    run(sim_cmd + ["--waypoints", os.path.join(work, "route.txt"), "--objects",
+                   os.path.join(work, "objects.txt"), "--out", rawlog], rawlog + ".txt")
+    gt = read_gt(rawlog + ".GT.txt")
+    ends = pass_ends(gt)
+    if len(ends) != args.passes + 1:
+        sys.exit(f"seed {seed}: found {len(ends)} laps in {rawlog}.GT.txt, expected {args.passes + 1}")
+
+    def changed(obj):
+        return [c for c in capsule_cells(*obj) if not base.at(*c)]
+
+    after, before = base.copy(), base.copy()
+    for obj in (door, box):
+        for cx, cy in changed(obj):
+            after.occ[cy][cx] = True
+    for cx, cy in changed(cart):
+        before.occ[cy][cx] = True
+    gt_after = [p for p in gt if p[0] > t_change][::40]
+    gt_before = [p for p in gt if p[0] <= t_change][::40]
+    targets = {"door": visible_cells(after, changed(door), gt_after),
+               "box": visible_cells(after, changed(box), gt_after),
+               "cart": visible_cells(before, changed(cart), gt_before)}
+    first = methods[0].replace(" ", "_").replace("=", "")
+    for m in methods:
+        tag = m.replace(" ", "_").replace("=", "")
+        row = {"seed": seed, **{f"{k}_n": len(v) for k, v in targets.items()}}
+        for k in range(1, args.passes + 1):
+            out = os.path.join(work, f"{tag}.pass{k}")
+            src = os.path.join(work, f"{first}.pass{k}")
+            if m == "log-odds":
+                run([baseline, "--rawlog", rawlog, "--trajectory", os.path.join(src, "trajectory.tum"),
+                     "--stamps", os.path.join(src, "conflict.csv"), "--grid-out", out + ".grid.txt",
+                     "--window", "-5,-7,21,9"], out + ".log")
+                mp = LogOddsMap(out + ".grid.txt")
+            else:
+                n = int(m.split("=")[1]) if "=" in m else 0
+                run(["nice", "-n", "10", offline, "--rawlog", rawlog, "--ground-truth",
+                     rawlog + ".GT.txt", "--out", out, "--particles", str(args.particles),
+                     "--threads", "1", "--seed", str(seed), "--quiet", "--max-scans",
+                     str(ends[k] + 1), "--param", f"flip_scans={n}"], out + ".log")
+                mp = EvMap(out)
+                src = out
+            align = Alignment(os.path.join(src, "trajectory.tum"), gt)
+
+            def occ3(q):
+                return max(mp.p(q[0] + dx * RES, q[1] + dy * RES)
+                           for dx in (-1, 0, 1) for dy in (-1, 0, 1)) > 0.5
+
+            for name, cells in targets.items():
+                qs = [align((cx + 0.5) * RES, (cy + 0.5) * RES) for cx, cy in cells]
+                hit = [mp.p(*q) < 0.5 for q in qs] if name == "cart" else [occ3(q) for q in qs]
+                row[f"{name}{k}"] = sum(hit) / max(1, len(hit))
+            if m != "log-odds" and k == args.passes:
+                row["ate"] = json.load(open(os.path.join(out, "summary.json")))["ate_rmse_m"]
+        rows[m].append(row)
+        print(f"seed {seed} within-run {m}: " + json.dumps(row), flush=True)
+
+
+def print_within(args, seeds, methods, rows):
+    laps = " / ".join(str(k) for k in range(1, args.passes + 1))
+    print(f"\n| method | door closed: occupied after lap {laps} | box placed: occupied after "
+          f"{laps} | cart removed: free after {laps} | ATE (m) |")
+    print("|---|---|---|---|---|")
+    for m in methods:
+        rs = rows[m]
+
+        def pcts(name):
+            return " / ".join("%.1f" % (100 * statistics.mean(r[f"{name}{k}"] for r in rs))
+                              for k in range(1, args.passes + 1)) + " %"
+
+        ate = "%.3f" % statistics.mean(r["ate"] for r in rs) if "ate" in rs[0] else "(our poses)"
+        print(f"| {m} | {pcts('door')} | {pcts('box')} | {pcts('cart')} | {ate} |")
+    n = {k: sum(r[f"{k}_n"] for r in rows[methods[0]]) for k in ("door", "box", "cart")}
+    print(f"\nmeans over {len(seeds)} generated runs, seeds {' '.join(map(str, seeds))}; cells: "
+          f"door {n['door']}, box {n['box']}, cart {n['cart']} (hit cells; occupied within one "
+          "cell, free at the cell)")
+
+
+def check_within(args, methods, rows):
+    """The smoke test's verdict (--check): bounded cells let every within-run change through."""
+    failures = []
+    k = args.passes
+    for m in methods:
+        if not m.startswith("ours N="):
+            continue
+        for r in rows[m]:
+            for name, floor in (("door", 0.8), ("box", 0.8), ("cart", 0.9)):
+                if r[f"{name}{k}"] < floor:
+                    failures.append(f"seed {r['seed']} {m}: {name} {100 * r[f'{name}{k}']:.1f} % "
+                                    f"after lap {k} (< {100 * floor:.0f} %)")
+    for f in failures:
+        print("FAIL " + f)
+    if args.junit:
+        body = "".join(f"<failure message=\"{f}\"/>" for f in failures)
+        os.makedirs(os.path.dirname(os.path.abspath(args.junit)), exist_ok=True)
+        with open(args.junit, "w") as f:
+            f.write(f'<?xml version="1.0"?>\n<testsuite name="map_dynamics_within" tests="1" '
+                    f'errors="0" failures="{1 if failures else 0}"><testcase name="within_run">'
+                    f"{body}</testcase></testsuite>\n")
+    print("check: " + ("FAILED" if failures else "passed"))
+    return not failures
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=2, help="generated day-1/day-2 pairs [2]")
@@ -336,9 +524,26 @@ def main():
     ap.add_argument("--bin", default=BIN, help="directory of the built programs")
     ap.add_argument("--figure", help="PNG: the first run's day 1 and last day-2 pass side by side "
                     "(first method), added cells red, removed blue; full colour = occupied on that map")
+    ap.add_argument("--check", action="store_true",
+                    help="with --within-run: exit 1 unless, for every bounded method (N > 0), after "
+                    "the last lap >= 80 %% of the door's and the box's cells are occupied and >= 90 %% "
+                    "of the cart's free (the CI smoke test)")
+    ap.add_argument("--junit", help="with --check: write the verdict as a JUnit file")
+    ap.add_argument("--within-run", action="store_true",
+                    help="the within-run changes instead of the day pairs: one run per seed, a lap, "
+                    "then a door closes, a box is placed, a cart is removed, then --passes laps")
     args = ap.parse_args()
     seeds = args.seeds or [random.SystemRandom().randrange(1, 10**6) for _ in range(args.runs)]
     print(f"seeds: {' '.join(map(str, seeds))}  (rerun: --seeds {' '.join(map(str, seeds))})")
+    if args.within_run:
+        methods = [f"ours N={n}" if n else "ours unbounded" for n in args.flip_scans] + ["log-odds"]
+        rows = {m: [] for m in methods}
+        for seed in seeds:
+            within_run(args, seed, methods, rows)
+        print_within(args, seeds, methods, rows)
+        if args.check and not check_within(args, methods, rows):
+            sys.exit(1)
+        return
     sim = os.path.join(args.bin, "evidential_slam_simulate")
     offline = os.path.join(args.bin, "evidential_slam_offline")
     baseline = os.path.join(args.bin, "evidential_slam_logodds_baseline")
