@@ -9,6 +9,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Path.h>
 #include <std_msgs/Float64.h>
+#include <tf2/buffer_core.h>
 
 #include "evidential_slam/ros/conversions.h"
 
@@ -17,7 +18,9 @@ namespace ros_adapter {
 
 SlamOutputs::SlamOutputs(std::string name, ros::NodeHandle& nh, ros::NodeHandle& private_nh,
                          GuardedParams& params)
-    : name_(std::move(name)), params_(params) {
+    : name_(std::move(name)),
+      params_(params),
+      tf_guard_(ros::Duration(tf2::BufferCore::DEFAULT_CACHE_TIME).toNSec()) {
   pose_pub_ = private_nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose", 10, true);
   particles_pub_ = private_nh.advertise<geometry_msgs::PoseArray>("particles", 10);
   path_pub_ = private_nh.advertise<nav_msgs::Path>("path", 1, true);
@@ -47,9 +50,14 @@ void SlamOutputs::onScanHandled(const MappingSession& session, const SessionScan
   const SlamEngine& engine = session.engine();
   const bool localizing = session.localizing();
   if (localizing && !session.localizer().initialized()) return;
-  setMapToOdom(localizing ? session.localizer().mapToOdom() : engine.mapToOdom());
+  const Pose2 map_to_odom = localizing ? session.localizer().mapToOdom() : engine.mapToOdom();
+  setMapToOdom(map_to_odom);
   ros::Time ros_stamp;
   ros_stamp.fromSec(result.stamp);
+  // While mapping the correction changes with each scan: tf gets it at the scan's own stamp, so
+  // a lookup there (a consumer of that scan) does not mix in the correction from before it.
+  scan_stamped_ = !localizing;
+  if (!localizing && tf_timer_.isValid()) sendMapToOdom(map_to_odom, ros_stamp);
   // A paused scan adds no conflict: the alarm did not see it.
   if (result.update.processed && !session.mappingPaused()) reportConflict(result, ros_stamp);
 
@@ -155,19 +163,35 @@ void SlamOutputs::publishTransform(const ros::TimerEvent&) {
     if (!have_transform_) return;
     map_to_odom = map_to_odom_;
   }
+  // Post-dated like gmapping's, so consumers can transform data up to the next broadcast.
+  const double tolerance = params_.read([](const NodeParams& p) { return p.transform_tolerance; });
+  const ros::Time now = ros::Time::now();
+  if (now < last_timer_now_) {
+    // Time jumped back (a bag played again): tf listeners clear their buffers, so does the guard.
+    std::lock_guard<std::mutex> lock(tf_mutex_);
+    tf_guard_.clear();
+  }
+  last_timer_now_ = now;
+  ros::Time stamp = now + ros::Duration(tolerance);
+  // tf keeps the first transform at a stamp. On a simulated clock a post-dated stamp often is a
+  // later scan's: 1 ns after it, the scan's own correction can still go in at the scan's stamp.
+  if (scan_stamped_) stamp += ros::Duration(0, 1);
+  sendMapToOdom(map_to_odom, stamp);
+}
+
+void SlamOutputs::sendMapToOdom(const Pose2& map_to_odom, const ros::Time& stamp) {
   geometry_msgs::TransformStamped t;
   params_.read([&t](const NodeParams& p) {
     t.header.frame_id = p.map_frame;
     t.child_frame_id = p.odom_frame;
-    // Post-dated like gmapping's, so consumers can transform data up to the next broadcast.
-    t.header.stamp = ros::Time::now() + ros::Duration(p.transform_tolerance);
     return 0;
   });
-  // tf refuses (and warns about) a second transform with the same stamp: simulated time may not
-  // have advanced since the last broadcast.
-  if (t.header.stamp == last_tf_stamp_) return;
-  last_tf_stamp_ = t.header.stamp;
+  t.header.stamp = stamp;
   t.transform = toTransformMsg(map_to_odom);
+  std::lock_guard<std::mutex> lock(tf_mutex_);
+  // A stamp tf already holds (simulated time may not have advanced since the last broadcast) or a
+  // scan older than the listeners' buffer (a filter far behind a bag) would only warn there.
+  if (!tf_guard_.admit(static_cast<int64_t>(stamp.toNSec()))) return;
   tf_broadcaster_.sendTransform(t);
 }
 

@@ -2,12 +2,13 @@
 // through test/data/sim_map.png on simulated time with noisy odometry and feeds the SLAM nodelet;
 // this node checks that scans, tf and the ground truth arrive, that ~done turns true, that the
 // route made no collision, and that the SLAM ends near the true pose while the odometry alone
-// does not.
+// does not; and that map -> odom is on tf at each handled scan's stamp.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/UInt32.h>
+#include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -40,6 +42,8 @@ struct Observed {
   std::vector<geometry_msgs::PoseStamped> truth_poses;
   nav_msgs::Path::ConstPtr truth_path;
   geometry_msgs::PoseWithCovarianceStamped::ConstPtr slam_pose;
+  std::set<uint64_t> pose_stamps_ns;  // of every ~pose (one per handled scan)
+  std::vector<geometry_msgs::TransformStamped> map_to_odom;  // every map -> odom on /tf
 };
 
 Observed* observed = nullptr;
@@ -126,6 +130,39 @@ TEST(GridmapSimulatorRos, DrivesTheRouteAndTheSlamEndsNearTheTruth) {
   EXPECT_LT(yawError(slam_end, truth_end), 0.1);
 }
 
+// While mapping, map -> odom goes to tf at each handled scan's stamp as well as post-dated: a
+// lookup at a scan's stamp gets the correction the filter found for that scan, not an earlier one.
+TEST(GridmapSimulatorRos, MapToOdomAtEachScansStamp) {
+  ASSERT_TRUE(waitFor([] { return observed->done; }, 180.0));
+  std::vector<geometry_msgs::TransformStamped> at_scans;
+  size_t poses = 0;
+  {
+    std::lock_guard<std::mutex> lock(observed->mutex);
+    poses = observed->pose_stamps_ns.size();
+    for (const auto& t : observed->map_to_odom)
+      if (observed->pose_stamps_ns.count(t.header.stamp.toNSec())) at_scans.push_back(t);
+  }
+  ASSERT_GT(poses, 20u);
+  // Every handled scan's, but for one a post-dated broadcast took first (a stamp tf holds).
+  EXPECT_GE(at_scans.size(), poses - 1) << at_scans.size() << " of " << poses << " scans";
+  RecordProperty("map_to_odom_at_scans",
+                 std::to_string(at_scans.size()) + "/" + std::to_string(poses));
+  size_t exact = 0;
+  for (const auto& t : at_scans) {
+    geometry_msgs::TransformStamped looked_up;
+    try {
+      looked_up = tf_buffer->lookupTransform("map", "odom", t.header.stamp);
+    } catch (const tf2::TransformException& e) {
+      ADD_FAILURE() << e.what();
+      continue;
+    }
+    const Pose2 a = ros_adapter::pose2FromTransform(t.transform);
+    const Pose2 b = ros_adapter::pose2FromTransform(looked_up.transform);
+    exact += (a.translation() - b.translation()).norm() < 1e-9 && yawError(a, b) < 1e-9;
+  }
+  EXPECT_EQ(exact, at_scans.size()) << "a lookup at a scan's stamp gave another correction";
+}
+
 }  // namespace
 }  // namespace evidential_slam
 
@@ -142,12 +179,12 @@ int main(int argc, char** argv) {
     std::lock_guard<std::mutex> lock(obs.mutex);
     obs.done = m->data;
   });
-  auto collisions = nh.subscribe<std_msgs::UInt32>(
-      "/gridmap_simulator/collisions", 1, [&](const std_msgs::UInt32::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.have_collisions = true;
-        obs.collisions = m->data;
-      });
+  auto collisions = nh.subscribe<std_msgs::UInt32>("/gridmap_simulator/collisions", 1,
+                                                   [&](const std_msgs::UInt32::ConstPtr& m) {
+                                                     std::lock_guard<std::mutex> lock(obs.mutex);
+                                                     obs.have_collisions = true;
+                                                     obs.collisions = m->data;
+                                                   });
   auto scan = nh.subscribe<sensor_msgs::LaserScan>("/scan", 1000,
                                                    [&](const sensor_msgs::LaserScan::ConstPtr& m) {
                                                      std::lock_guard<std::mutex> lock(obs.mutex);
@@ -171,7 +208,13 @@ int main(int argc, char** argv) {
       [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(obs.mutex);
         obs.slam_pose = m;
+        obs.pose_stamps_ns.insert(m->header.stamp.toNSec());
       });
+  auto tf = nh.subscribe<tf2_msgs::TFMessage>("/tf", 1000, [&](const auto& m) {
+    std::lock_guard<std::mutex> lock(obs.mutex);
+    for (const auto& t : m->transforms)
+      if (t.header.frame_id == "map" && t.child_frame_id == "odom") obs.map_to_odom.push_back(t);
+  });
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const int result = RUN_ALL_TESTS();

@@ -1,8 +1,11 @@
 // What the SLAM node tells after each scan: ~pose, ~particles (while subscribed), ~path, the
 // conflict alarm (~conflict_added, ~open_space_conflict_added, a status on /diagnostics and a
-// warning when an alarm rises), and map -> odom, broadcast on a timer post-dated like gmapping's.
+// warning when an alarm rises), and map -> odom: while mapping, stamped with each handled scan's
+// stamp (a lookup at a scan's stamp gets that scan's correction), and on a timer post-dated like
+// gmapping's (lookups at the present).
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -12,6 +15,7 @@
 
 #include "evidential_slam/core/pose2.h"
 #include "evidential_slam/ros/guarded_params.h"
+#include "evidential_slam/ros/tf_stamp_guard.h"
 #include "evidential_slam/session/session.h"
 
 namespace evidential_slam {
@@ -35,6 +39,8 @@ class SlamOutputs {
  private:
   void reportConflict(const SessionScanResult& result, const ros::Time& stamp);
   void publishTransform(const ros::TimerEvent&);
+  // map -> odom stamped `stamp`, unless a listener would drop it (TfStampGuard).
+  void sendMapToOdom(const Pose2& map_to_odom, const ros::Time& stamp);
 
   const std::string name_;
   GuardedParams& params_;
@@ -46,7 +52,10 @@ class SlamOutputs {
   std::mutex transform_mutex_;
   bool have_transform_ = false;
   Pose2 map_to_odom_;
-  ros::Time last_tf_stamp_;  // of the last map -> odom broadcast (tf timer thread only)
+  std::mutex tf_mutex_;                    // the timer's and the worker's broadcasts
+  ros::Time last_timer_now_;               // tf timer thread only
+  std::atomic<bool> scan_stamped_{false};  // map -> odom also goes at each scan's stamp (mapping)
+  TfStampGuard tf_guard_;
 };
 
 }  // namespace ros_adapter
