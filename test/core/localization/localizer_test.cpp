@@ -12,6 +12,7 @@
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/localization/localizer.h"
+#include "evidential_slam/core/motion_model.h"
 #include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/slam_engine.h"
 
@@ -395,6 +396,36 @@ TEST(Localizer, MotionGate) {
                   .processed);
   EXPECT_EQ(loc.stats().scans_processed, 3u);
   EXPECT_EQ(loc.stats().scans_received, 4u);
+}
+
+// A robot standing still for a minute (600 scans at 10 Hz), its odometry jittering by a few
+// millimetres and its scans by range noise: no update passes the motion gate (amcl's
+// update_min_d/_a), so the published pose moves by the odometry's jitter only, < 0.01 m.
+TEST(Localizer, StandingStillThePoseStays) {
+  LocalizationConfig c = localizationConfig();
+  c.update_min_d = LocalizationConfig().update_min_d;  // amcl's defaults
+  c.update_min_a = LocalizationConfig().update_min_a;
+  Localizer loc(c, slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  const Route r = route(30);
+  ASSERT_TRUE(loc.resetAt(inMap(r.truth[0]), Eigen::Matrix3d::Identity() * 1e-3, nullptr));
+  double stamp = 1.0;
+  for (size_t i = 0; i < r.truth.size(); ++i) {
+    loc.processScan(r.odometry[i], blockRoomScan(r.truth[i], stamp += 0.1, true));
+  }
+  const Pose2 still = loc.estimate().mean;
+  Rng rng = Rng::forStream(11, 0, 0);
+  double moved = 0.0;
+  uint64_t processed = 0;
+  for (int i = 0; i < 600; ++i) {
+    const Pose2 jitter(0.002 * rng.gaussian(), 0.002 * rng.gaussian(), 0.002 * rng.gaussian());
+    LaserScan scan = blockRoomScan(r.truth.back(), stamp += 0.1, true);
+    for (float& range : scan.ranges) range += static_cast<float>(0.01 * rng.gaussian());
+    processed += loc.processScan(r.odometry.back().compose(jitter), scan).processed ? 1 : 0;
+    moved = std::max(moved, distance(loc.estimate().mean, still));
+  }
+  EXPECT_EQ(processed, 0u);
+  EXPECT_LT(moved, 0.01);
 }
 
 // resetAt moves the cloud (the kidnapped robot told where it is) and the next scan is weighed
