@@ -21,6 +21,11 @@ void ConflictAlarm::reset() {
   in_alarm_ = false;
 }
 
+void ConflictAlarm::rearm() {
+  above_ = 0;
+  in_alarm_ = false;
+}
+
 void ConflictAlarm::setConfig(const ConflictAlarmConfig& config) {
   config_ = config;
   while (window_.size() > static_cast<size_t>(std::max(1, config_.baseline_scans))) {

@@ -110,6 +110,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
     o["anomaly_cells"] = l.anomaly_cells;
     o["lookup_bytes"] = l.lookup_bytes;
     o["lookup_build_s"] = l.lookup_build_s;
+    o["recoveries"] = l.recoveries;
     j["localization"] = o;
   }
 

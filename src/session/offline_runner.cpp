@@ -122,18 +122,22 @@ bool writeLocalizationCsv(const std::string& path, const std::vector<Localizatio
         f << "# per localization update: stamp (s), the estimate (m, m, rad; map frame) and its "
              "covariance (m^2, m*rad, rad^2), the particles after the update, resampled (1 = "
              "yes), the mean log plausibility per weighed beam, the anomaly the scan added "
-             "(bits)\n"
+             "(bits), what it contradicted (the conflict alarm's input, about cells), the "
+             "alarm (1 = on), the particles spread again over the free space (1 = yes)\n"
           << "stamp,x,y,theta,cov_xx,cov_xy,cov_xa,cov_yy,cov_ya,cov_aa,particles,resampled,"
-             "mean_log_plausibility,anomaly_added_bits\n";
+             "mean_log_plausibility,anomaly_added_bits,contradiction,alarm,respread\n";
         char line[400];
         for (const LocalizationRow& r : rows) {
           const Pose2& m = r.estimate.mean;
           const Eigen::Matrix3d& c = r.estimate.covariance;
-          std::snprintf(line, sizeof(line),
-                        "%.6f,%.6f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%zu,%d,%.6g,%.6g\n",
-                        r.stamp, m.x, m.y, m.theta, c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2),
-                        c(2, 2), r.update.particles, r.update.resampled ? 1 : 0,
-                        r.update.mean_log_plausibility, r.update.anomaly_added_bits);
+          std::snprintf(
+              line, sizeof(line),
+              "%.6f,%.6f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%zu,%d,%.6g,%.6g,%.6g,%d,"
+              "%d\n",
+              r.stamp, m.x, m.y, m.theta, c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2),
+              r.update.particles, r.update.resampled ? 1 : 0, r.update.mean_log_plausibility,
+              r.update.anomaly_added_bits, r.update.contradiction, r.update.alarm.alarm ? 1 : 0,
+              r.update.respread ? 1 : 0);
           f << line;
         }
         return static_cast<bool>(f);
@@ -297,6 +301,9 @@ int Run::execute() {
     if (result.update.processed && result.alarm.rising) {
       summary_.conflict_alarm_stamps.push_back(item.scan.stamp);
     }
+    if (result.localization.processed && result.localization.alarm.rising) {
+      summary_.conflict_alarm_stamps.push_back(item.scan.stamp);
+    }
     if (result.localization.processed) {
       localization_rows_.push_back(
           {item.scan.stamp, session->localizer().estimate(), result.localization});
@@ -369,6 +376,7 @@ int Run::execute() {
     loc.anomaly_cells = localizer.anomaly().size();
     loc.lookup_bytes = l.lookup_bytes;
     loc.lookup_build_s = l.lookup_build_s;
+    loc.recoveries = l.recoveries;
     summary_.localization = loc;
     summary_.scans_processed = l.scans_processed;
     summary_.resamplings = l.resamplings;

@@ -181,6 +181,7 @@ bool MappingSession::reconfigure(const Parameters& params, std::string* why) {
   }
   params_ = next;
   alarm_.setConfig(params_.conflict_alarm);
+  if (localizer_ != nullptr) localizer_->setAlarmConfig(params_.conflict_alarm);
   return true;
 }
 
@@ -226,7 +227,8 @@ bool MappingSession::startLocalization(const EvidentialGridMap& map, const Local
       !poseWithinMapExtent(start.pose, params_.session.max_map_extent, "the start pose", why)) {
     return false;
   }
-  auto localizer = std::make_unique<Localizer>(params_.localization, engine_->config());
+  auto localizer =
+      std::make_unique<Localizer>(params_.localization, engine_->config(), params_.conflict_alarm);
   if (!localizer->setMap(map, why) || !startLocalizer(localizer.get(), start, why)) return false;
   localizer_ = std::move(localizer);
   localization_start_ = start;

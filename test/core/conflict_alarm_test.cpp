@@ -258,6 +258,23 @@ TEST(ConflictAlarm, ARampRaisesTheEnvelopeAStepAlarms) {
   EXPECT_FALSE(after_ramp.update(85.0).alarm);
 }
 
+// rearm (a localizer acted on the alarm): the alarm and its count of scans above the threshold
+// are forgotten, the baseline is kept; a fault that goes on rises again once confirmed.
+TEST(ConflictAlarm, RearmKeepsTheBaseline) {
+  ConflictAlarmConfig c = smallConfig();
+  c.confirm_scans = 2;
+  ConflictAlarm alarm(c);
+  for (int i = 0; i < 5; ++i) alarm.update(3.0);
+  EXPECT_FALSE(alarm.update(50.0).alarm);  // > 4 x 3, the first of two
+  EXPECT_TRUE(alarm.update(50.0).rising);
+  alarm.rearm();
+  EXPECT_DOUBLE_EQ(alarm.baseline(), 3.0);
+  EXPECT_FALSE(alarm.update(50.0).alarm);  // counted again from the first
+  const ConflictAlarmState s = alarm.update(50.0);
+  EXPECT_TRUE(s.alarm);
+  EXPECT_TRUE(s.rising);
+}
+
 TEST(ConflictAlarm, ResetAndValidation) {
   ConflictAlarm alarm(smallConfig());
   for (int i = 0; i < 5; ++i) alarm.update(3.0);

@@ -47,6 +47,9 @@ class ConflictAlarm {
   // Feeds what one processed scan added; returns the verdict for that scan.
   ConflictAlarmState update(double added);
   void reset();
+  // Forgets the scans above the threshold and the alarm, keeps the baseline: after the fault was
+  // acted on (a localizer spread its particles again), a new alarm needs confirm_scans again.
+  void rearm();
   void setConfig(const ConflictAlarmConfig& config);
   const ConflictAlarmConfig& config() const { return config_; }
   // The largest value in the baseline window (0 when empty).

@@ -61,6 +61,7 @@ struct LocalizationSummary {
   uint64_t anomaly_cells = 0;         // cells with an anomaly
   uint64_t lookup_bytes = 0;          // laser_model_type beam: the lookup's memory (0: not built)
   double lookup_build_s = 0.0;        // ... and its build time (CPU s)
+  uint64_t recoveries = 0;            // kidnap_recovery's spreads over the free space
 };
 
 struct RunSummary {

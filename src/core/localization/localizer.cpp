@@ -59,8 +59,9 @@ struct Localizer::Workspace {
   ScanAccumulator accumulator;
 };
 
-Localizer::Localizer(const LocalizationConfig& config, const SlamConfig& slam)
-    : config_(config), slam_(slam) {
+Localizer::Localizer(const LocalizationConfig& config, const SlamConfig& slam,
+                     const ConflictAlarmConfig& alarm)
+    : config_(config), slam_(slam), alarm_(alarm) {
   std::string why;
   if (!config_.isValid(&why) || !slam_.isValid(&why)) {
     throw std::invalid_argument("invalid localization configuration: " + why);
@@ -82,6 +83,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   short_rate_ = 0.0;
   particles_.clear();
   anomaly_.clear();
+  alarm_.reset();
   trajectory_.clear();
   stats_ = LocalizerStats{};
   restartFilter();
@@ -156,6 +158,7 @@ bool Localizer::resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, st
   }
   const Eigen::Matrix3d root = eig.eigenvectors() * values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
   restartFilter();
+  alarm_.reset();  // a new start: the scans before it (perhaps lost) are no baseline
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   drawKld(static_cast<size_t>(config_.max_particles), [&] {
     const Eigen::Vector3d d =
@@ -187,6 +190,12 @@ bool Localizer::globalLocalization(std::string* why) {
   if (map_.observedBox().empty()) return refuse(why, "no map to localize on");
   buildFreeCells();
   if (free_cells_.empty()) return refuse(why, "the map has no free space to spread particles on");
+  alarm_.reset();
+  spreadOverFreeSpace();
+  return true;
+}
+
+void Localizer::spreadOverFreeSpace() {
   restartFilter();
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   const size_t n = static_cast<size_t>(config_.max_particles);
@@ -194,7 +203,6 @@ bool Localizer::globalLocalization(std::string* why) {
   for (LocalizationParticle& p : particles_) p.pose = randomFreePose(&rng);
   computeEstimate();
   searching_ = true;
-  return true;
 }
 
 bool Localizer::onMappedFloor(const Pose2& pose) const {
@@ -389,6 +397,25 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   scanAnomaly(ws.accumulator, map_, models.beam.openSpaceRadius(), &cells);
   for (const AnomalyCell& c : cells) out.anomaly_added_bits += c.bits;
   anomaly_.add(cells);
+  out.contradiction = contradictionOf(cells);
+  // The alarm judges the scans at an estimate the filter tracks (not while a global localization
+  // searches, when the estimate means nothing yet). A kidnap makes the scans contradict the map
+  // several times more than any while tracking; the particles then search the whole free space.
+  // The baseline is kept: the map and the sensor are the same after the kidnap.
+  if (!searching_) {
+    out.alarm = alarm_.update(out.contradiction);
+    if (out.alarm.rising && config_.kidnap_recovery) {
+      buildFreeCells();
+      if (!free_cells_.empty()) {
+        trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean});
+        spreadOverFreeSpace();
+        alarm_.rearm();
+        ++stats_.recoveries;
+        out.respread = true;
+        return out;
+      }
+    }
+  }
 
   trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean});
   return out;

@@ -12,6 +12,7 @@
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/localization/localizer.h"
+#include "evidential_slam/core/motion_model.h"
 #include "evidential_slam/core/particle_filter.h"
 #include "evidential_slam/core/slam_engine.h"
 
@@ -119,9 +120,9 @@ double distance(const Pose2& a, const Pose2& b) { return std::hypot(a.x - b.x, a
 struct Route {
   std::vector<Pose2> truth, odometry;
 };
-Route route(int steps) {
+Route route(int steps, const Pose2& start = Pose2(-1.2, -1.2, 0.6)) {
   Route r;
-  Pose2 truth(-1.2, -1.2, 0.6), odometry(5.0, 3.0, -1.0);
+  Pose2 truth = start, odometry(5.0, 3.0, -1.0);
   for (int i = 0; i < steps; ++i) {
     r.truth.push_back(truth);
     r.odometry.push_back(odometry);
@@ -315,6 +316,68 @@ TEST(Localizer, ShortReadingsRateFollowsAnUnexpectedObstacle) {
   EXPECT_GT(rates[1], 0.03);
 }
 
+// A kidnap: after tracking `kidnap_at` scans of the route, the robot is carried 2 m (and turned)
+// while its odometry goes on as if it had made one ordinary step, then drives on from there.
+// Returns the error of the estimate at each scan after the kidnap.
+std::vector<double> kidnapped(const LocalizationConfig& c, int* respread_at = nullptr) {
+  Localizer loc(c, slamConfig());
+  EXPECT_TRUE(loc.setMap(roomMap(), nullptr));
+  const int kidnap_at = 70;
+  const Route before = route(kidnap_at);
+  const Pose2 last = before.truth.back();
+  Pose2 carried;
+  for (int k = 0; k < 12; ++k) {  // 2 m away, inside the route's part of the room
+    const double a = k * M_PI / 6;
+    carried = Pose2(last.x + 2.0 * std::cos(a), last.y + 2.0 * std::sin(a), last.theta + 2.0);
+    if (std::abs(carried.x) < 1.4 && std::abs(carried.y) < 1.4) break;
+  }
+  EXPECT_NEAR(distance(carried, last), 2.0, 1e-9);
+  EXPECT_LT(std::max(std::abs(carried.x), std::abs(carried.y)), 1.4);
+  const Route after = route(40, carried);
+  EXPECT_TRUE(loc.resetAt(inMap(before.truth[0]), Eigen::Matrix3d::Identity() * 1e-3, nullptr));
+  double stamp = 1.0;
+  for (int i = 0; i < kidnap_at; ++i) {
+    const LocalizationUpdate u =
+        loc.processScan(before.odometry[i], blockRoomScan(before.truth[i], stamp += 0.1, true));
+    EXPECT_FALSE(u.respread) << i;  // no false alarm while tracking
+  }
+  EXPECT_LT(distance(loc.estimate().mean, inMap(last)), 0.05);
+  // The odometry after the kidnap: one ordinary step, then the new route's increments.
+  const Pose2 step(0.12, 0.0, 0.1);
+  Pose2 odometry = before.odometry.back().compose(step);
+  std::vector<double> errors;
+  for (size_t i = 0; i < after.truth.size(); ++i) {
+    if (i > 0) odometry = odometry.compose(after.odometry[i - 1].between(after.odometry[i]));
+    const LocalizationUpdate u =
+        loc.processScan(odometry, blockRoomScan(after.truth[i], stamp += 0.1, true));
+    if (u.respread && respread_at != nullptr && *respread_at < 0) {
+      *respread_at = static_cast<int>(i);
+    }
+    errors.push_back(distance(loc.estimate().mean, inMap(after.truth[i])));
+  }
+  return errors;
+}
+
+// The kidnap makes the scans at the estimate contradict the map far more than while tracking:
+// the conflict alarm fires within a few scans, the particles are spread over the free space, and
+// the estimate is back on the truth within 20 scans of the kidnap and stays there. Without the
+// recovery the filter stays where the robot was.
+TEST(Localizer, KidnapIsDetectedAndRecovered) {
+  LocalizationConfig c = localizationConfig();
+  c.max_particles = 2000;
+  int respread_at = -1;
+  const std::vector<double> errors = kidnapped(c, &respread_at);
+  EXPECT_GE(respread_at, 0);
+  EXPECT_LE(respread_at, 5);
+  for (size_t i = 20; i < errors.size(); ++i) EXPECT_LT(errors[i], 0.1) << i;
+
+  c.kidnap_recovery = false;
+  respread_at = -1;
+  const std::vector<double> lost = kidnapped(c, &respread_at);
+  EXPECT_EQ(respread_at, -1);
+  EXPECT_GT(lost[20], 0.5);
+}
+
 // Scans within update_min_d and update_min_a of the last update only move the estimate by the
 // odometry; the first scan after a reset is always weighed.
 TEST(Localizer, MotionGate) {
@@ -333,6 +396,36 @@ TEST(Localizer, MotionGate) {
                   .processed);
   EXPECT_EQ(loc.stats().scans_processed, 3u);
   EXPECT_EQ(loc.stats().scans_received, 4u);
+}
+
+// A robot standing still for a minute (600 scans at 10 Hz), its odometry jittering by a few
+// millimetres and its scans by range noise: no update passes the motion gate (amcl's
+// update_min_d/_a), so the published pose moves by the odometry's jitter only, < 0.01 m.
+TEST(Localizer, StandingStillThePoseStays) {
+  LocalizationConfig c = localizationConfig();
+  c.update_min_d = LocalizationConfig().update_min_d;  // amcl's defaults
+  c.update_min_a = LocalizationConfig().update_min_a;
+  Localizer loc(c, slamConfig());
+  ASSERT_TRUE(loc.setMap(roomMap(), nullptr));
+  const Route r = route(30);
+  ASSERT_TRUE(loc.resetAt(inMap(r.truth[0]), Eigen::Matrix3d::Identity() * 1e-3, nullptr));
+  double stamp = 1.0;
+  for (size_t i = 0; i < r.truth.size(); ++i) {
+    loc.processScan(r.odometry[i], blockRoomScan(r.truth[i], stamp += 0.1, true));
+  }
+  const Pose2 still = loc.estimate().mean;
+  Rng rng = Rng::forStream(11, 0, 0);
+  double moved = 0.0;
+  uint64_t processed = 0;
+  for (int i = 0; i < 600; ++i) {
+    const Pose2 jitter(0.002 * rng.gaussian(), 0.002 * rng.gaussian(), 0.002 * rng.gaussian());
+    LaserScan scan = blockRoomScan(r.truth.back(), stamp += 0.1, true);
+    for (float& range : scan.ranges) range += static_cast<float>(0.01 * rng.gaussian());
+    processed += loc.processScan(r.odometry.back().compose(jitter), scan).processed ? 1 : 0;
+    moved = std::max(moved, distance(loc.estimate().mean, still));
+  }
+  EXPECT_EQ(processed, 0u);
+  EXPECT_LT(moved, 0.01);
 }
 
 // resetAt moves the cloud (the kidnapped robot told where it is) and the next scan is weighed

@@ -13,7 +13,9 @@
 // plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
 // heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly
 // of every processed scan at the estimate is accumulated against the map (anomaly.h): what
-// changed since the map was made.
+// changed since the map was made. What that anomaly contradicts feeds the conflict alarm; when it
+// fires (the scans contradict the map far more than while the filter tracked), kidnap_recovery
+// spreads the particles over the free space again, as a global localization.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +27,7 @@
 
 #include "evidential_slam/core/anomaly.h"
 #include "evidential_slam/core/config.h"
+#include "evidential_slam/core/conflict_alarm.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/localization/localization_config.h"
@@ -55,6 +58,9 @@ struct LocalizationUpdate {
   double short_rate = 0.0;             // beam: the short readings' rate used for this scan
   size_t random_particles = 0;         // drawn from free space by the recovery at this scan
   double anomaly_added_bits = 0.0;     // the anomaly this scan added at the estimate
+  double contradiction = 0.0;          // its Σ K (contradictionOf): the conflict alarm's input
+  ConflictAlarmState alarm;            // the alarm's verdict (processed scans, not while searching)
+  bool respread = false;  // kidnap_recovery spread the particles over the free space after it
 };
 
 struct LocalizerStats {
@@ -69,14 +75,17 @@ struct LocalizerStats {
   size_t lookup_bytes = 0;        // the beam model's lookup (laser_model_type beam), once built
   double lookup_build_s = 0.0;    // its build time (process CPU s)
   uint64_t anomaly_traces = 0;    // updates whose scan was traced for the anomaly
+  uint64_t recoveries = 0;        // kidnap_recovery's spreads over the free space
 };
 
 class Localizer {
  public:
   // `slam` gives the sensor, motion and matcher models, the likelihood temperature, the seed and
-  // the threads (its particle count and resolution are not used: the map has its own). Throws
-  // std::invalid_argument for an invalid configuration (check isValid first).
-  Localizer(const LocalizationConfig& config, const SlamConfig& slam);
+  // the threads (its particle count and resolution are not used: the map has its own); `alarm`
+  // the conflict alarm kidnap_recovery listens to. Throws std::invalid_argument for an invalid
+  // configuration (check isValid first).
+  Localizer(const LocalizationConfig& config, const SlamConfig& slam,
+            const ConflictAlarmConfig& alarm = ConflictAlarmConfig());
   ~Localizer();
   Localizer(const Localizer&) = delete;
   Localizer& operator=(const Localizer&) = delete;
@@ -108,6 +117,8 @@ class Localizer {
   // New run-time parameters (the seed and threads of `slam` keep their values); the particles
   // are kept. False (and `why`) when invalid; nothing changes then.
   bool reconfigure(const LocalizationConfig& config, const SlamConfig& slam, std::string* why);
+  // The conflict alarm's new parameters (its baseline is kept).
+  void setAlarmConfig(const ConflictAlarmConfig& alarm) { alarm_.setConfig(alarm); }
 
   bool initialized() const { return !particles_.empty(); }
   const std::vector<LocalizationParticle>& particles() const { return particles_; }
@@ -140,6 +151,8 @@ class Localizer {
   // Forgets the odometry and the recovery's averages: the next scan is weighed where the
   // particles are.
   void restartFilter();
+  // max_particles poses drawn uniformly from the free space (buildFreeCells first; not empty).
+  void spreadOverFreeSpace();
 
   LocalizationConfig config_;
   SlamConfig slam_;
@@ -169,6 +182,9 @@ class Localizer {
   uint64_t draws_ = 0;
   double w_slow_ = 0.0, w_fast_ = 0.0;
   AnomalyGrid anomaly_;
+  // Fed with what each scan at the estimate contradicts in the map while the filter tracks: a
+  // kidnap or a lost filter makes it fire (kidnap_recovery).
+  ConflictAlarm alarm_;
   std::vector<StampedPose> trajectory_;
   LocalizerStats stats_;
 };
