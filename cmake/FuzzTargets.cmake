@@ -19,6 +19,7 @@ if(ES_FUZZER_BIN)
     SOURCE_DIR "${CMAKE_CURRENT_SOURCE_DIR}/test/fuzz"
     BINARY_DIR "${ES_FUZZ_DIR}"
     CMAKE_ARGS -DCMAKE_CXX_COMPILER=${ES_CLANGXX} -DES_REPO=${CMAKE_CURRENT_SOURCE_DIR}
+               -DES_GENERATED_INCLUDE=${ES_GENERATED_INCLUDE}
                -DCMAKE_BUILD_TYPE=
     INSTALL_COMMAND ""
     BUILD_ALWAYS ON
@@ -36,4 +37,5 @@ target_compile_definitions(test_fuzz_smoke PRIVATE
   ES_ALLOW_NO_FUZZER=$<BOOL:${ES_ALLOW_NO_FUZZER}>)
 if(ES_FUZZER_BIN)
   add_dependencies(test_fuzz_smoke es_fuzzers)
+  add_dependencies(es_fuzzers evidential_slam_parameter_fields)
 endif()

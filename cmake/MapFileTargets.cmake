@@ -65,7 +65,7 @@ if(CATKIN_ENABLE_TESTING)
     add_custom_command(OUTPUT "${ES_MAP_FUZZER_BIN}"
       COMMAND "${ES_CLANGXX}" -std=c++17 -O1 -g -fno-omit-frame-pointer
               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-              "-I${CMAKE_CURRENT_SOURCE_DIR}/include" "-I${EIGEN3_INCLUDE_DIR}" ${map_fuzz_sources}
+              "-I${CMAKE_CURRENT_SOURCE_DIR}/include" "-I${ES_GENERATED_INCLUDE}" "-I${EIGEN3_INCLUDE_DIR}" ${map_fuzz_sources}
               -lz -o "${ES_MAP_FUZZER_BIN}"
       DEPENDS ${map_fuzz_sources} ${map_fuzz_headers}
       COMMENT "Building the map file reader's libFuzzer target with clang"

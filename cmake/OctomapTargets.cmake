@@ -87,7 +87,7 @@ if(CATKIN_ENABLE_TESTING)
     add_custom_command(OUTPUT "${ES_FUZZER_BIN}"
       COMMAND "${ES_CLANGXX}" -std=c++17 -O1 -g -fno-omit-frame-pointer
               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-              "-I${CMAKE_CURRENT_SOURCE_DIR}/include" "-I${EIGEN3_INCLUDE_DIR}" ${fuzz_sources}
+              "-I${CMAKE_CURRENT_SOURCE_DIR}/include" "-I${ES_GENERATED_INCLUDE}" "-I${EIGEN3_INCLUDE_DIR}" ${fuzz_sources}
               "$<TARGET_FILE:octomap>" "$<TARGET_FILE:octomath>" -o "${ES_FUZZER_BIN}"
       DEPENDS ${fuzz_sources} ${fuzz_headers}
       COMMENT "Building the EvidentialOcTree reader's libFuzzer target with clang"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
 namespace {
@@ -14,6 +14,10 @@ bool fail(std::string* why, const char* what) {
 }
 
 }  // namespace
+
+SensorModelConfig::SensorModelConfig() {
+  ES_SENSOR_MODEL_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
+}
 
 bool SensorModelConfig::isValid(std::string* why) const {
   bool ok = true;
@@ -31,10 +35,18 @@ SensorModelConfig SensorModelConfig::forSensorNoise(double range_sigma, double r
   return c;
 }
 
+MotionModelConfig::MotionModelConfig() {
+  ES_MOTION_MODEL_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
+}
+
 bool MotionModelConfig::isValid(std::string* why) const {
   bool ok = true;
   ES_MOTION_MODEL_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
   return ok;
+}
+
+ScanMatcherConfig::ScanMatcherConfig() {
+  ES_SCAN_MATCHER_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
 }
 
 bool ScanMatcherConfig::isValid(std::string* why) const {
@@ -59,11 +71,15 @@ ScanMatcherConfig ScanMatcherConfig::forSensorNoise(double range_sigma, double h
   return c;
 }
 
+LongStepConfig::LongStepConfig() { ES_LONG_STEP_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
+
 bool LongStepConfig::isValid(std::string* why) const {
   bool ok = true;
   ES_LONG_STEP_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
   return ok;
 }
+
+SlamConfig::SlamConfig() { ES_FILTER_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool SlamConfig::isValid(std::string* why) const {
   bool ok = true;

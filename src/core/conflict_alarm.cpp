@@ -1,11 +1,15 @@
 #include "evidential_slam/core/conflict_alarm.h"
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace evidential_slam {
+
+ConflictAlarmConfig::ConflictAlarmConfig() {
+  ES_CONFLICT_ALARM_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
+}
 
 bool ConflictAlarmConfig::isValid(std::string* why) const {
   bool ok = true;

@@ -1,4 +1,5 @@
 #include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 #include <algorithm>
 
@@ -15,6 +16,8 @@ const char* const kNodeParameterNames[] = {ES_NODE_PARAMETERS(ES_NODE_PARAMETER_
 #undef ES_NODE_PARAMETER_NAME
 
 }  // namespace
+
+SessionConfig::SessionConfig() { ES_SESSION_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool SessionConfig::isValid(std::string* why) const {
   bool ok = true;
@@ -36,9 +39,8 @@ bool Parameters::isValid(std::string* why) const {
 std::vector<ParameterSpec> sharedParameterSpecs() {
   std::vector<ParameterSpec> specs;
   Parameters scratch;
-  forEachSharedParameter(scratch, [&specs](const ParameterSpec& spec, auto&) {
-    specs.push_back(spec);
-  });
+  forEachSharedParameter(scratch,
+                         [&specs](const ParameterSpec& spec, auto&) { specs.push_back(spec); });
   return specs;
 }
 

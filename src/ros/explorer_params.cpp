@@ -1,5 +1,6 @@
 #include "evidential_slam/ros/explorer_params.h"
 
+#include "evidential_slam/ros/parameter_rows.h"
 #include "evidential_slam/ros/parameter_text.h"
 
 namespace evidential_slam {
@@ -20,6 +21,10 @@ bool readThroughTable(const ParameterLookup& lookup, ForEach&& for_each, std::st
 
 }  // namespace
 
+ExplorerNodeParams::ExplorerNodeParams() {
+  ES_EXPLORER_NODE_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
+}
+
 bool ExplorerNodeParams::isValid(std::string* why) const {
   if (!explorer.isValid(why)) return false;
   bool ok = true;
@@ -31,6 +36,10 @@ bool readExplorerParams(const ParameterLookup& lookup, ExplorerNodeParams* param
                         std::string* why) {
   return readThroughTable(
       lookup, [params](auto&& visit) { forEachExplorerNodeParameter(*params, visit); }, why);
+}
+
+ExplorationMonitorParams::ExplorationMonitorParams() {
+  ES_EXPLORATION_MONITOR_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
 }
 
 bool ExplorationMonitorParams::isValid(std::string* why) const {

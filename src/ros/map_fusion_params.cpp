@@ -5,6 +5,7 @@
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "evidential_slam/core/fusion/combination.h"
+#include "evidential_slam/ros/parameter_rows.h"
 #include "evidential_slam/ros/parameter_text.h"
 
 namespace evidential_slam {
@@ -25,6 +26,8 @@ bool readNumber(const std::string& name, double* value) {
 }
 
 }  // namespace
+
+MapFusionParams::MapFusionParams() { ES_MAP_FUSION_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool MapFusionParams::isValid(std::string* why) const {
   if (!session.isValid(why)) return false;

@@ -1,5 +1,7 @@
 #include "evidential_slam/ros/params.h"
+#include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/ros/gmapping_names.h"
+#include "evidential_slam/ros/parameter_rows.h"
 #include "evidential_slam/ros/parameter_text.h"
 
 #include <cstdio>
@@ -50,6 +52,8 @@ bool parameterText(XmlRpc::XmlRpcValue& value, std::string* text) {
       return false;
   }
 }
+
+NodeParams::NodeParams() { ES_NODE_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool NodeParams::isValid(std::string* why) const {
   auto fail = [why](const std::string& what) {

@@ -1,4 +1,5 @@
 #include "evidential_slam/ros/slam_nodelet.h"
+#include "evidential_slam/EvidentialSlamConfig.h"
 
 #include <cstdlib>
 #include <filesystem>

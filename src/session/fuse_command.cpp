@@ -14,6 +14,7 @@
 #include "evidential_slam/core/fusion/alignment.h"
 #include "evidential_slam/core/fusion/map_fusion.h"
 #include "evidential_slam/core/fusion/map_score.h"
+#include "evidential_slam/core/parameter_rows.h"
 #include "evidential_slam/io/build_info.h"
 #include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"

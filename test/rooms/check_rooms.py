@@ -7,8 +7,13 @@ For every room R and every header H of another room: H must be found from R when
 room (core <- io <- session <- ros) and must not be found otherwise. The include paths are the
 ones CMake computed for R's library (BUILD/rooms/R.includes, cmake/Rooms.cmake), so the check
 fails when a room's CMakeLists.txt links or names an include path against the arrows.
+
+Also: no header reaches the parameter table (core/parameters.def) except the parameter_rows.h
+headers, which only .cpp files include. Struct headers name their fields through the generated
+parameter_fields/*.h, so editing a row's default recompiles only the files that read the table.
 """
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -36,6 +41,35 @@ def preprocess(compiler, includes, header, workdir):
     return r.returncode, r.stderr
 
 
+def table_reach(include_root):
+    """Headers (other than the parameter_rows.h ones) that include the table, directly or not."""
+    graph = {}
+    for d, _, names in os.walk(os.path.join(include_root, "evidential_slam")):
+        for n in names:
+            if n.endswith(".h"):
+                path = os.path.join(d, n)
+                with open(path, encoding="utf-8") as f:
+                    graph[os.path.relpath(path, include_root)] = re.findall(
+                        r'^\s*#\s*include\s+"(evidential_slam/[^"]+)"', f.read(), re.M)
+    table = "evidential_slam/core/parameters.def"
+    reaches, problems = {}, []
+
+    def reach(header, stack=()):
+        if header == table:
+            return True
+        if header not in reaches:
+            reaches[header] = header not in stack and any(
+                reach(h, stack + (header,)) for h in graph.get(header, []))
+        return reaches[header]
+
+    for header in sorted(graph):
+        if not header.endswith("parameter_rows.h") and reach(header):
+            problems.append("%s reaches parameters.def: a row's default would recompile every "
+                            "file that includes it (include the generated parameter_fields/*.h; "
+                            "expand rows in a .cpp through parameter_rows.h)" % header)
+    return problems
+
+
 def main(argv):
     args = dict(zip(argv[1::2], argv[2::2]))
     compiler, rooms_dir, include_root = args["--compiler"], args["--rooms"], args["--include"]
@@ -59,6 +93,7 @@ def main(argv):
                             room, header, err.strip().splitlines()[0] if err.strip() else rc))
                     elif other not in MAY_USE[room] and not missing:
                         problems.append("%s can include %s (against the arrows)" % (room, header))
+    problems += table_reach(include_root)
     for p in problems:
         print(p)
     print("%d includes checked, %d wrong" % (checked, len(problems)))

@@ -13,7 +13,9 @@
 
 #include <dynamic_reconfigure/Config.h>
 
+#include "evidential_slam/EvidentialSlamConfig.h"
 #include "evidential_slam/ros/gmapping_names.h"
+#include "evidential_slam/ros/parameter_rows.h"
 #include "evidential_slam/ros/params.h"
 
 namespace evidential_slam {

@@ -8,13 +8,18 @@
 #include <string>
 #include <vector>
 
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/filter.h"
+#include "evidential_slam/core/parameter_fields/long_step.h"
+#include "evidential_slam/core/parameter_fields/motion_model.h"
+#include "evidential_slam/core/parameter_fields/scan_matcher.h"
+#include "evidential_slam/core/parameter_fields/sensor_model.h"
 
 namespace evidential_slam {
 
 // Forward (plausibility) and inverse (GBT) laser models, algorithm.md §3-§4.
 struct SensorModelConfig {
-  ES_SENSOR_MODEL_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  SensorModelConfig();  // the table's defaults
+  ES_SENSOR_MODEL_FIELDS
 
   bool isValid(std::string* why) const;
   // The model for a sensor that declares `range_sigma` of range noise: the σ's are never below
@@ -25,7 +30,8 @@ struct SensorModelConfig {
 
 // Odometry motion model (Probabilistic Robotics, sample_motion_model_odometry).
 struct MotionModelConfig {
-  ES_MOTION_MODEL_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  MotionModelConfig();  // the table's defaults
+  ES_MOTION_MODEL_FIELDS
 
   bool isValid(std::string* why) const;
 };
@@ -37,7 +43,8 @@ struct MotionModelConfig {
 // ±heading_window and from no and from reversed translation, the forward model choosing; the
 // particles are then sampled around the chosen pose (the wide-basin match).
 struct ScanMatcherConfig {
-  ES_SCAN_MATCHER_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  ScanMatcherConfig();  // the table's defaults
+  ES_SCAN_MATCHER_FIELDS
 
   bool isValid(std::string* why) const;
   // Matching for a sensor with `range_sigma` of range noise: kernel and search radius widened,
@@ -53,7 +60,8 @@ struct ScanMatcherConfig {
 // Settings that apply after a long odometry step, where the prediction is further from the match
 // and the scan overlaps less with the map.
 struct LongStepConfig {
-  ES_LONG_STEP_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  LongStepConfig();  // the table's defaults
+  ES_LONG_STEP_FIELDS
 
   bool isValid(std::string* why) const;
   // Some setting differs after a long step.
@@ -65,7 +73,8 @@ struct LongStepConfig {
 };
 
 struct SlamConfig {
-  ES_FILTER_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  SlamConfig();  // the table's defaults
+  ES_FILTER_FIELDS
   SensorModelConfig sensor;
   MotionModelConfig motion;
   ScanMatcherConfig matcher;

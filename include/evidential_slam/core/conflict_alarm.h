@@ -21,12 +21,13 @@
 #include <deque>
 #include <string>
 
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/conflict_alarm.h"
 
 namespace evidential_slam {
 
 struct ConflictAlarmConfig {
-  ES_CONFLICT_ALARM_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  ConflictAlarmConfig();  // the table's defaults
+  ES_CONFLICT_ALARM_FIELDS
 
   bool isValid(std::string* why) const;
 };

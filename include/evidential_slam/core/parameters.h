@@ -11,6 +11,7 @@
 #include "evidential_slam/core/config.h"
 #include "evidential_slam/core/conflict_alarm.h"
 #include "evidential_slam/core/localization/localization_config.h"
+#include "evidential_slam/core/parameter_fields/session.h"
 
 namespace evidential_slam {
 
@@ -27,17 +28,11 @@ struct ParameterSpec {
   const char* meaning;
 };
 
-// Visits one row: visit(spec, field).
-#define ES_VISIT_PARAMETER(ctx, name, member, type, def, min, max, unit, scope, tier, meaning) \
-  visit(::evidential_slam::ParameterSpec{#name, #type, static_cast<double>(min),               \
-                                         static_cast<double>(max), unit,                       \
-                                         ::evidential_slam::ParameterScope::scope, meaning},   \
-        (ctx).member);
-
 // What both front ends do around the SLAM engine (session/): the order of scans, and the map files
 // written by the offline runner's --out and the node's ~save_map.
 struct SessionConfig {
-  ES_SESSION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  SessionConfig();  // the table's defaults
+  ES_SESSION_FIELDS
 
   bool isValid(std::string* why) const;
 };
@@ -52,14 +47,6 @@ struct Parameters {
 
   bool isValid(std::string* why) const;
 };
-
-template <typename SharedParameters, typename Visitor>
-void forEachSharedParameter(SharedParameters& p, Visitor&& visit) {
-  ES_SLAM_CONFIG_PARAMETERS(ES_VISIT_PARAMETER, p.slam)
-  ES_CONFLICT_ALARM_PARAMETERS(ES_VISIT_PARAMETER, p.conflict_alarm)
-  ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, p.session)
-  ES_LOCALIZATION_PARAMETERS(ES_VISIT_PARAMETER, p.localization)
-}
 
 // The rows of the shared parameters, in table order.
 std::vector<ParameterSpec> sharedParameterSpecs();
@@ -105,15 +92,5 @@ std::string valueText(const std::string& v);
 
 // Every shared parameter's value as text (for summaries and map files), in table order.
 std::vector<std::pair<std::string, std::string>> parameterValues(const Parameters& p);
-
-// Range checks of every row of `Config`'s list (its isValid builds on it): the first failure's
-// message goes to `why`.
-#define ES_CHECK_PARAMETER_RANGE(ctx, name, member, type, def, min, max, unit, scope, tier,  \
-                                 meaning)                                                    \
-  ok = ok && ::evidential_slam::inRange(                                                     \
-                 ::evidential_slam::ParameterSpec{                                           \
-                     #name, #type, static_cast<double>(min), static_cast<double>(max), unit, \
-                     ::evidential_slam::ParameterScope::scope, meaning},                     \
-                 (ctx).member, why);
 
 }  // namespace evidential_slam

@@ -9,23 +9,19 @@
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "evidential_slam/core/exploration/parameters.h"
+#include "evidential_slam/core/parameter_fields/exploration_monitor.h"
+#include "evidential_slam/core/parameter_fields/explorer_node.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
 
 struct ExplorerNodeParams {
-  ES_EXPLORER_NODE_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  ExplorerNodeParams();  // the table's defaults
+  ES_EXPLORER_NODE_FIELDS
   exploration::ExplorerConfig explorer;
 
   bool isValid(std::string* why) const;
 };
-
-// Visits every parameter of the explorer node, the core's first: visit(spec, field).
-template <typename Params, typename Visitor>
-void forEachExplorerNodeParameter(Params& p, Visitor&& visit) {
-  exploration::forEachExplorerParameter(p.explorer, visit);
-  ES_EXPLORER_NODE_PARAMETERS(ES_VISIT_PARAMETER, p)
-}
 
 // Looks a private parameter up by name: false when it is not set.
 using ParameterLookup = std::function<bool(const std::string& name, XmlRpc::XmlRpcValue* value)>;
@@ -40,7 +36,8 @@ std::vector<std::string> unknownExplorerParams(const std::vector<std::string>& n
 
 // exploration_monitor's parameters (the harness of explore.launch).
 struct ExplorationMonitorParams {
-  ES_EXPLORATION_MONITOR_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  ExplorationMonitorParams();  // the table's defaults
+  ES_EXPLORATION_MONITOR_FIELDS
 
   bool isValid(std::string* why) const;
 };

@@ -6,6 +6,7 @@
 
 #include <ros/ros.h>
 
+#include "evidential_slam/core/parameter_fields/map_fusion.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/pose2.h"
 
@@ -14,16 +15,11 @@ namespace ros_adapter {
 
 struct MapFusionParams {
   SessionConfig session;  // occupied_thresh and free_thresh of the trinary `map`
-  ES_MAP_FUSION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  MapFusionParams();      // the table's defaults
+  ES_MAP_FUSION_FIELDS
 
   bool isValid(std::string* why) const;
 };
-
-template <typename Params, typename Visitor>
-void forEachMapFusionParameter(Params& p, Visitor&& visit) {
-  ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, p.session)
-  ES_MAP_FUSION_PARAMETERS(ES_VISIT_PARAMETER, p)
-}
 
 // Reads the node's parameters from its private handle; missing ones keep their defaults. False
 // with a one-line `why` for a value of the wrong type or out of range.

@@ -8,25 +8,21 @@
 
 #include <ros/node_handle.h>
 
-#include "evidential_slam/EvidentialSlamConfig.h"
+#include "evidential_slam/core/parameter_fields/node.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/ros/gmapping_names.h"
 
 namespace evidential_slam {
+class EvidentialSlamConfig;  // dynamic_reconfigure's, generated from the table
+
 namespace ros_adapter {
 
 struct NodeParams : Parameters {
-  ES_NODE_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  NodeParams();  // the table's defaults
+  ES_NODE_FIELDS
 
   bool isValid(std::string* why) const;
 };
-
-// Visits every parameter of the node, the shared ones first: visit(spec, field).
-template <typename Params, typename Visitor>
-void forEachNodeParameter(Params& p, Visitor&& visit) {
-  forEachSharedParameter(p, visit);
-  ES_NODE_PARAMETERS(ES_VISIT_PARAMETER, p)
-}
 
 // Reads every parameter from the private node handle; missing ones keep their defaults. False
 // with a one-line `why` for a value of the wrong type or out of range. `unknown` gets the names

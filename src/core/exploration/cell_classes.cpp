@@ -2,10 +2,14 @@
 
 #include <cmath>
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
 namespace exploration {
+
+CellClassConfig::CellClassConfig() {
+  ES_EXPLORER_CELL_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
+}
 
 bool CellClassConfig::isValid(std::string* why) const {
   bool ok = true;

@@ -4,14 +4,16 @@
 #include <cmath>
 #include <cstdio>
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
 namespace exploration {
 
+ExplorerConfig::ExplorerConfig() { ES_EXPLORER_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
+
 bool ExplorerConfig::isValid(std::string* why) const {
-  bool ok = cells.isValid(why) && frontiers.isValid(why) && planner.isValid(why) &&
-            pursuit.isValid(why);
+  bool ok =
+      cells.isValid(why) && frontiers.isValid(why) && planner.isValid(why) && pursuit.isValid(why);
   ES_EXPLORER_PARAMETERS(ES_CHECK_PARAMETER_RANGE, (*this))
   return ok;
 }

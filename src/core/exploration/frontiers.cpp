@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
 namespace exploration {
@@ -89,6 +89,8 @@ Strategy FrontierConfig::kind() const {
   parseStrategy(strategy, &s);
   return s;
 }
+
+FrontierConfig::FrontierConfig() { ES_EXPLORER_GOAL_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool FrontierConfig::isValid(std::string* why) const {
   bool ok = true;

@@ -1,19 +1,20 @@
 #include "evidential_slam/core/exploration/parameters.h"
 
+#include "evidential_slam/core/exploration/parameter_rows.h"
+
 namespace evidential_slam {
 namespace exploration {
 
 std::vector<ParameterSpec> explorerParameterSpecs() {
   std::vector<ParameterSpec> specs;
   ExplorerConfig scratch;
-  forEachExplorerParameter(scratch, [&specs](const ParameterSpec& spec, auto&) {
-    specs.push_back(spec);
-  });
+  forEachExplorerParameter(scratch,
+                           [&specs](const ParameterSpec& spec, auto&) { specs.push_back(spec); });
   return specs;
 }
 
-bool setExplorerParameter(const std::string& name, const std::string& value,
-                          ExplorerConfig* config, std::string* why) {
+bool setExplorerParameter(const std::string& name, const std::string& value, ExplorerConfig* config,
+                          std::string* why) {
   bool found = false, ok = false;
   forEachExplorerParameter(*config, [&](const ParameterSpec& spec, auto& field) {
     if (found || name != spec.name) return;

@@ -7,7 +7,7 @@
 #include <queue>
 #include <utility>
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
 namespace exploration {
@@ -75,8 +75,8 @@ struct Neighbour {
   int dc, dr;
   double length;  // in cells
 };
-constexpr Neighbour kNeighbours[8] = {{1, 0, 1.0},    {-1, 0, 1.0},    {0, 1, 1.0},
-                                      {0, -1, 1.0},   {1, 1, kSqrt2},  {1, -1, kSqrt2},
+constexpr Neighbour kNeighbours[8] = {{1, 0, 1.0},     {-1, 0, 1.0},    {0, 1, 1.0},
+                                      {0, -1, 1.0},    {1, 1, kSqrt2},  {1, -1, kSqrt2},
                                       {-1, 1, kSqrt2}, {-1, -1, kSqrt2}};
 
 // Calls fn(neighbour index, step cost) for each neighbour of `i` that can be stepped to.
@@ -99,8 +99,7 @@ void forEachStep(const CostGrid& grid, int i, Fn&& fn) {
 }
 
 using QueueEntry = std::pair<double, int>;
-using MinQueue =
-    std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>>;
+using MinQueue = std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>>;
 
 // Octile distance between two cells (m).
 double octile(const GridGeometry& g, int a, int b) {
@@ -109,6 +108,8 @@ double octile(const GridGeometry& g, int a, int b) {
 }
 
 }  // namespace
+
+PlannerConfig::PlannerConfig() { ES_EXPLORER_PLANNER_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool PlannerConfig::isValid(std::string* why) const {
   bool ok = true;
@@ -136,9 +137,9 @@ CostGrid::CostGrid(const GridGeometry& geometry, const std::vector<CellClass>& c
         (classes[i] == CellClass::kUnknown && !config.unknown_passable)) {
       cost_[i] = kImpassable;
     } else if (clearance < config.inflation_radius) {
-      cost_[i] = static_cast<float>(
-          1.0 + config.wall_cost *
-                    std::exp(-config.cost_scaling_factor * (clearance - config.robot_radius)));
+      cost_[i] =
+          static_cast<float>(1.0 + config.wall_cost * std::exp(-config.cost_scaling_factor *
+                                                               (clearance - config.robot_radius)));
     }
   }
   if (robot != nullptr) {
@@ -167,7 +168,7 @@ std::vector<float> costToReach(const CostGrid& grid, const Eigen::Vector2d& star
   std::vector<Entry> storage;
   storage.reserve(cost.size());
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open(std::greater<Entry>(),
-                                                                          std::move(storage));
+                                                                           std::move(storage));
   cost[s] = 0.0f;
   open.push({0.0f, s});
   while (!open.empty()) {

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
 namespace exploration {
+
+PursuitConfig::PursuitConfig() { ES_EXPLORER_PURSUIT_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this)) }
 
 bool PursuitConfig::isValid(std::string* why) const {
   bool ok = true;

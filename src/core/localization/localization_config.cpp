@@ -2,9 +2,13 @@
 // parameter files, their fuzz target) links without the filter.
 #include "evidential_slam/core/localization/localization_config.h"
 
-#include "evidential_slam/core/parameters.h"
+#include "evidential_slam/core/parameter_rows.h"
 
 namespace evidential_slam {
+
+LocalizationConfig::LocalizationConfig() {
+  ES_LOCALIZATION_PARAMETERS(ES_SET_PARAMETER_DEFAULT, (*this))
+}
 
 bool LocalizationConfig::isValid(std::string* why) const {
   bool ok = true;

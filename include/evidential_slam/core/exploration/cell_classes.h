@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "evidential_slam/core/layers.h"
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/explorer_cell.h"
 
 namespace evidential_slam {
 namespace exploration {
@@ -19,7 +19,8 @@ namespace exploration {
 // pass leaves NS = r = 0.2; the Θ gap the inverse model leaves in front of a hit holds 0.5-0.9
 // until the wall has been seen a few times, which must not read as a frontier.
 struct CellClassConfig {
-  ES_EXPLORER_CELL_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  CellClassConfig();  // the table's defaults
+  ES_EXPLORER_CELL_FIELDS
 
   bool isValid(std::string* why) const;
 };

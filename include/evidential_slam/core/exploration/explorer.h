@@ -17,7 +17,7 @@
 #include "evidential_slam/core/exploration/planner.h"
 #include "evidential_slam/core/exploration/pure_pursuit.h"
 #include "evidential_slam/core/layers.h"
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/explorer.h"
 #include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
@@ -28,7 +28,8 @@ struct ExplorerConfig {
   FrontierConfig frontiers;
   PlannerConfig planner;
   PursuitConfig pursuit;
-  ES_EXPLORER_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  ExplorerConfig();  // the table's defaults
+  ES_EXPLORER_FIELDS
 
   bool isValid(std::string* why) const;
 };

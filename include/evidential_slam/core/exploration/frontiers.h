@@ -20,7 +20,7 @@
 
 #include "evidential_slam/core/exploration/cell_classes.h"
 #include "evidential_slam/core/exploration/planner.h"
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/explorer_goal.h"
 
 namespace evidential_slam {
 namespace exploration {
@@ -38,7 +38,8 @@ const char* strategyName(Strategy strategy);
 // in both strategies as revisit_weight · gain · exp(-distance_decay · path_cost), their gain the
 // bit·m² of external conflict in the cluster.
 struct FrontierConfig {
-  ES_EXPLORER_GOAL_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  FrontierConfig();  // the table's defaults
+  ES_EXPLORER_GOAL_FIELDS
 
   // The strategy `strategy` names (isValid refuses other names).
   Strategy kind() const;

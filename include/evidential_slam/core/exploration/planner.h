@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "evidential_slam/core/exploration/cell_classes.h"
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/explorer_planner.h"
 
 namespace evidential_slam {
 namespace exploration {
@@ -18,7 +18,8 @@ namespace exploration {
 // The wall cost of a cell at clearance c (robot_radius <= c < inflation_radius) multiplies a
 // step's length by 1 + wall_cost · exp(-cost_scaling_factor · (c - robot_radius)); 1 beyond.
 struct PlannerConfig {
-  ES_EXPLORER_PLANNER_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  PlannerConfig();  // the table's defaults
+  ES_EXPLORER_PLANNER_FIELDS
 
   bool isValid(std::string* why) const;
 };

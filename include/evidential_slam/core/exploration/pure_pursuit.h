@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/explorer_pursuit.h"
 #include "evidential_slam/core/pose2.h"
 
 namespace evidential_slam {
@@ -17,7 +17,8 @@ namespace exploration {
 // Within slowdown_distance of the goal the speed falls linearly, to a quarter of the maximum at
 // goal_tolerance.
 struct PursuitConfig {
-  ES_EXPLORER_PURSUIT_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  PursuitConfig();  // the table's defaults
+  ES_EXPLORER_PURSUIT_FIELDS
 
   bool isValid(std::string* why) const;
 };

@@ -4,12 +4,13 @@
 
 #include <string>
 
-#include "evidential_slam/core/parameters.def"
+#include "evidential_slam/core/parameter_fields/localization.h"
 
 namespace evidential_slam {
 
 struct LocalizationConfig {
-  ES_LOCALIZATION_PARAMETERS(ES_DECLARE_PARAMETER_FIELD, )
+  LocalizationConfig();  // the table's defaults
+  ES_LOCALIZATION_FIELDS
 
   // False, with the first offending parameter in `why`, outside a row's range, when
   // min_particles is above max_particles, laser_model_type is not beam, beam_traced or
