@@ -775,7 +775,8 @@ bool alignMaps(const EvidentialGridMap& reference, const EvidentialGridMap& movi
   };
   // Every candidate is refined below the cell (refineSubCell) before the candidates are compared:
   // each is judged at its best fit.
-  const Pooled ref_raw = cellRaster(reference, false), mov_raw = cellRaster(moving, false);
+  const Pooled ref_raw = config.subcell ? cellRaster(reference, false) : Pooled{};
+  const Pooled mov_raw = config.subcell ? cellRaster(moving, false) : Pooled{};
   const CellBox mov_box = moving.observedBox();
   const Eigen::Vector2d pivot(0.5 * (mov_box.min_x + mov_box.max_x + 1) * res,
                               0.5 * (mov_box.min_y + mov_box.max_y + 1) * res);
