@@ -167,7 +167,9 @@ TEST(AlignmentTest, ConflictVerifiesAPoseTheScoreCannotTell) {
               std::to_string(c.disagreement) + " wall " + std::to_string(c.contradicted_m) + "; ";
     if (std::abs(normalizeAngle(c.pose.theta - truth.theta - kPi)) < 0.05) {
       half_turn = true;
-      if (c.score <= band) EXPECT_GT(c.contradicted_m, 1.0);
+      if (c.score <= band) {
+        EXPECT_GT(c.contradicted_m, 1.0);
+      }
     }
   }
   EXPECT_TRUE(half_turn);
