@@ -153,6 +153,7 @@ void MapFusionNodelet::run() {
 }
 
 bool MapFusionNodelet::fuseOnce() {
+  const ros::WallTime cycle_start = ros::WallTime::now();
   // A consistent copy of the robots (maps are shared, immutable).
   std::vector<Robot> robots;
   uint64_t changes = 0;
@@ -205,7 +206,10 @@ bool MapFusionNodelet::fuseOnce() {
                           .compose(robots[0].prior.inverse().compose(r.prior))
                           .compose(r.grid_frame);
       }
-      if (fusion::alignMaps(*robots[0].map, *r.map, align, &result, &why)) {
+      const bool aligned = fusion::alignMaps(*robots[0].map, *r.map, align, &result, &why);
+      times_.align_s += (ros::WallTime::now() - now).toSec();
+      ++times_.alignments;
+      if (aligned) {
         // Grid poses -> map frames: reference grid frame ∘ aligned ∘ this grid frame⁻¹.
         r.pose = robots[0].grid_frame.compose(result.pose).compose(r.grid_frame.inverse());
         r.has_pose = true;
@@ -253,13 +257,31 @@ bool MapFusionNodelet::fuseOnce() {
   EvidentialGridMap fused;
   fusion::FusionReport report;
   std::string why;
+  const ros::WallTime fuse_start = ros::WallTime::now();
   if (!fusion::fuseMaps(sources, config, &fused, &report, &why)) {
     NODELET_WARN_THROTTLE(10.0, "map_fusion: %s", why.c_str());
     return false;
   }
-  NODELET_DEBUG("map_fusion: %zu maps, %zu cells, %zu overlapping, mean conflict %.4f",
-                sources.size(), report.fused_cells, report.overlap_cells, report.mean_conflict);
+  const ros::WallTime publish_start = ros::WallTime::now();
   publish(fused, stamp);
+  const ros::WallTime end = ros::WallTime::now();
+  const double cycle_s = (end - cycle_start).toSec();
+  ++times_.cycles;
+  times_.fuse_s += (publish_start - fuse_start).toSec();
+  times_.publish_s += (end - publish_start).toSec();
+  times_.total_s += cycle_s;
+  times_.max_s = std::max(times_.max_s, cycle_s);
+  NODELET_DEBUG("map_fusion: %zu maps, %zu cells, %zu overlapping, mean conflict %.4f; %.3f s",
+                sources.size(), report.fused_cells, report.overlap_cells, report.mean_conflict,
+                cycle_s);
+  const double n = static_cast<double>(times_.cycles);
+  NODELET_INFO_THROTTLE(60.0,
+                        "map_fusion: %zu fusions of %zu cells (last), mean wall time %.3f s "
+                        "(fusion %.3f s, publishing %.3f s), longest cycle %.3f s; %zu alignments, "
+                        "%.3f s each",
+                        times_.cycles, report.fused_cells, times_.total_s / n, times_.fuse_s / n,
+                        times_.publish_s / n, times_.max_s, times_.alignments,
+                        times_.alignments > 0 ? times_.align_s / times_.alignments : 0.0);
   return true;
 }
 

@@ -72,6 +72,11 @@ class MapFusionNodelet : public nodelet::Nodelet {
   bool stop_ = false;
   uint64_t changes_ = 0;        // counts new maps and poses (guarded by mutex_)
   uint64_t fused_changes_ = 0;  // changes_ at the last fusion (fusion thread only)
+  // Wall time of the fusion cycles so far (fusion thread only): logged every minute.
+  struct CycleTimes {
+    size_t cycles = 0, alignments = 0;
+    double total_s = 0.0, align_s = 0.0, fuse_s = 0.0, publish_s = 0.0, max_s = 0.0;
+  } times_;
   std::thread thread_;
 };
 

@@ -51,6 +51,9 @@ struct AlignmentConfig {
   double distinct_angle = 0.1745329252;  // rad (10°)
   bool icp = true;                       // refine with the scan matcher (ScanMatcher::refine)
   ScanMatcherConfig matcher;             // that refinement's settings
+  // Refine the accepted pose below the cell: least conflict per occupied evidence on the maps' own
+  // cells, without the score's tolerance (alignment.cpp, refineSubCell).
+  bool subcell = true;
   // Conflict as the verifier (alignment_check.h). The score is ambiguous when distinct
   // candidates score within 1 / ambiguity_ratio of the best (the band); among those, the one
   // whose disagreement share is lowest is taken when it is at most verify_ratio times every other
@@ -92,6 +95,7 @@ struct AlignmentResult {
     double disagreement = 0.0;    // Disagreement::share
     double contradicted_m = 0.0;  // Disagreement::contradicted in m of confident wall
     double matched_m = 0.0;       // Disagreement::matched in m of confident wall
+    size_t overlap = 0;           // cells of the moving map on observed reference cells
   };
   std::vector<Candidate> candidates;
   bool decided_by_verifier = false;  // the score was ambiguous; the verifier chose `pose`
