@@ -65,7 +65,7 @@ TEST(GridmapSimulatorCollision, StopsAtTheWallAndCountsOneCollision) {
     std::lock_guard<std::mutex> lock(observed->mutex);
     EXPECT_EQ(observed->collisions, 1u);
     EXPECT_EQ(observed->collision_messages, 2u);  // the latched 0, then 1
-    EXPECT_NEAR(observed->x, 0.65, 0.005);  // facing west: the map's x axis points west
+    EXPECT_NEAR(observed->x, 0.65, 0.005);        // facing west: the map's x axis points west
     EXPECT_NEAR(observed->y, 0.0, 1e-6);
   }
   // Pushing on for 2 s more: still one collision, still at the wall.
@@ -87,13 +87,13 @@ int main(int argc, char** argv) {
   evidential_slam::observed = &obs;
   ros::Publisher cmd_vel = nh.advertise<geometry_msgs::Twist>("/cmd_vel", 10);
   evidential_slam::cmd_vel = &cmd_vel;
-  auto collisions = nh.subscribe<std_msgs::UInt32>(
-      "/gridmap_simulator/collisions", 10, [&](const std_msgs::UInt32::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.have_collisions = true;
-        obs.collisions = m->data;
-        ++obs.collision_messages;
-      });
+  auto collisions = nh.subscribe<std_msgs::UInt32>("/gridmap_simulator/collisions", 10,
+                                                   [&](const std_msgs::UInt32::ConstPtr& m) {
+                                                     std::lock_guard<std::mutex> lock(obs.mutex);
+                                                     obs.have_collisions = true;
+                                                     obs.collisions = m->data;
+                                                     ++obs.collision_messages;
+                                                   });
   auto pose = nh.subscribe<geometry_msgs::PoseStamped>(
       "/ground_truth_pose", 100, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(obs.mutex);
@@ -102,10 +102,5 @@ int main(int argc, char** argv) {
         obs.y = m->pose.position.y;
         obs.stamp = m->header.stamp.toSec();
       });
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning();
 }

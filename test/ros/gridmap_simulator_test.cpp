@@ -215,10 +215,5 @@ int main(int argc, char** argv) {
     for (const auto& t : m->transforms)
       if (t.header.frame_id == "map" && t.child_frame_id == "odom") obs.map_to_odom.push_back(t);
   });
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning();
 }

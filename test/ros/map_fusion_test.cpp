@@ -12,10 +12,10 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 
+#include "../core/fusion/synthetic_world.h"
 #include "evidential_slam/EvidentialGrid.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/ros/conversions.h"
-#include "../core/fusion/synthetic_world.h"
 #include "ros_test_support.h"
 
 namespace evidential_slam {
@@ -38,8 +38,8 @@ EvidentialGrid roomGrid(int x0) {
   EvidentialGridMap map(kResolution);
   for (int y = 0; y < 20; ++y) {
     for (int x = x0; x <= x0 + 40; ++x) {
-      map.mutableCell(x, y) = x == x0 + 40 ? Cell::fromStored(0.9f, 0.0f, 0.0f)
-                                           : Cell::fromStored(0.0f, 0.8f, 0.0f);
+      map.mutableCell(x, y) =
+          x == x0 + 40 ? Cell::fromStored(0.9f, 0.0f, 0.0f) : Cell::fromStored(0.0f, 0.8f, 0.0f);
     }
   }
   return gridMsg(map);
@@ -68,16 +68,16 @@ TEST(MapFusion, FusesThePosedRobotsMapsInTheWorldFrame) {
         map = *m;
         have_map = true;
       });
-  auto grid_sub = nh.subscribe<EvidentialGrid>(
-      "/map_fusion/grid", 1, [&](const EvidentialGrid::ConstPtr& m) {
+  auto grid_sub =
+      nh.subscribe<EvidentialGrid>("/map_fusion/grid", 1, [&](const EvidentialGrid::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(mutex);
         grid = *m;
         have_grid = true;
       });
   std::vector<ros::Publisher> pubs;
   for (const char* robot : {"robot1", "robot2", "robot3"}) {
-    pubs.push_back(nh.advertise<EvidentialGrid>(std::string("/") + robot + "/evidential_slam/grid",
-                                                1, true));
+    pubs.push_back(
+        nh.advertise<EvidentialGrid>(std::string("/") + robot + "/evidential_slam/grid", 1, true));
   }
   pubs[0].publish(roomGrid(0));
   pubs[1].publish(roomGrid(0));
@@ -109,13 +109,12 @@ TEST(MapFusion, FusesThePosedRobotsMapsInTheWorldFrame) {
   ASSERT_TRUE(ros_adapter::layerRasterFromMsg(grid, &raster, nullptr, &why)) << why;
   const int col = static_cast<int>(std::floor((1.05 - raster.origin_x) / raster.resolution));
   const int row = static_cast<int>(std::floor((1.05 - raster.origin_y) / raster.resolution));
-  EXPECT_NEAR(raster.layer(Layer::kFree)[static_cast<size_t>(row * raster.width + col)], 0.8,
-              1e-6);
+  EXPECT_NEAR(raster.layer(Layer::kFree)[static_cast<size_t>(row * raster.width + col)], 0.8, 1e-6);
 }
 
 // The office of the core's alignment tests: robot1 maps its west part from the world origin,
-// robot2 its east part from a map frame at (12.3, -4.1, 2.2 rad), robot3 a world of clutter. Without
-// init poses the node must put robot2's part where the office is and leave robot3 out.
+// robot2 its east part from a map frame at (12.3, -4.1, 2.2 rad), robot3 a world of clutter.
+// Without init poses the node must put robot2's part where the office is and leave robot3 out.
 TEST(MapFusion, EstimatesWhereARobotsMapFitsAndLeavesOutOneThatFitsNowhere) {
   ros::NodeHandle nh;
   std::mutex mutex;
@@ -131,8 +130,8 @@ TEST(MapFusion, EstimatesWhereARobotsMapFitsAndLeavesOutOneThatFitsNowhere) {
   const synthetic::World office = synthetic::office();
   std::vector<ros::Publisher> pubs;
   for (const char* robot : {"robot1", "robot2", "robot3"}) {
-    pubs.push_back(nh.advertise<EvidentialGrid>(std::string("/") + robot + "/evidential_slam/grid",
-                                                1, true));
+    pubs.push_back(
+        nh.advertise<EvidentialGrid>(std::string("/") + robot + "/evidential_slam/grid", 1, true));
   }
   pubs[0].publish(gridMsg(synthetic::paint(office, Pose2(), {7.0, 7.0}, 9.0, kCell, 1)));
   pubs[1].publish(
@@ -171,10 +170,5 @@ TEST(MapFusion, EstimatesWhereARobotsMapFitsAndLeavesOutOneThatFitsNowhere) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "map_fusion_test");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning(1);
 }

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <thread>
 
+#include <gtest/gtest.h>
 #include <ros/ros.h>
 
 namespace evidential_slam {
@@ -24,6 +25,17 @@ bool waitUntil(std::mutex& mutex, F&& ready, double seconds) {
   }
   std::lock_guard<std::mutex> lock(mutex);
   return ready();
+}
+
+// A rostest program's end: runs every test while `threads` spinner threads serve the callbacks,
+// then shuts ROS down. Returns RUN_ALL_TESTS()'s result.
+inline int runAllTestsSpinning(int threads = 2) {
+  ros::AsyncSpinner spinner(threads);
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
 }
 
 }  // namespace testing_ros

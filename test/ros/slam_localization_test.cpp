@@ -74,7 +74,8 @@ std::string param(const std::string& name) {
 
 // Before the player's first scan, /map is the stored map, trinary.
 TEST(SlamLocalization, ServesTheStoredMap) {
-  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, [] { return seen->first_map != nullptr; }, 30.0));
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [] { return seen->first_map != nullptr; }, 30.0));
   EvidentialGridMap stored;
   io::MapFileInfo info;
   std::string error;
@@ -183,7 +184,8 @@ TEST(SlamLocalization, MapToOdomComposedWithOdometryIsThePose) {
   int compared = 0;
   double worst_d = 0.0, worst_a = 0.0;
   // /tf and ~pose travel on different connections, so a broadcast of the previous correction can
-  // arrive after a pose: of the broadcasts received between a pose and the next, the closest counts.
+  // arrive after a pose: of the broadcasts received between a pose and the next, the closest
+  // counts.
   for (size_t i = 0; i + 1 < poses.size(); ++i) {
     geometry_msgs::TransformStamped odom_base;
     try {
@@ -216,7 +218,8 @@ TEST(SlamLocalization, MapToOdomComposedWithOdometryIsThePose) {
 
 // /initialpose (after the log) puts the cloud at the given pose with about its covariance.
 TEST(SlamLocalization, InitialPoseMovesTheCloud) {
-  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, [] { return seen->done; }, 150.0));
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [] { return seen->done; }, 150.0));
   ros::NodeHandle nh;
   ros::Publisher pub = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("/initialpose", 1);
   ASSERT_TRUE(testing_ros::waitUntil(
@@ -291,24 +294,24 @@ int main(int argc, char** argv) {
   tf2_ros::Buffer tf_buffer(ros::Duration(300.0));
   tf2_ros::TransformListener tf_listener(tf_buffer);
   evidential_slam::tf_buffer = &tf_buffer;
-  auto map = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/map", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        if (!seen.first_map) seen.first_map = m;
-        seen.last_map = m;
-        ++seen.maps;
-      });
+  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
+                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+                                                     std::lock_guard<std::mutex> lock(seen.mutex);
+                                                     if (!seen.first_map) seen.first_map = m;
+                                                     seen.last_map = m;
+                                                     ++seen.maps;
+                                                   });
   auto anomaly = nh.subscribe<nav_msgs::OccupancyGrid>(
       "/evidential_slam/layers/anomaly", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(seen.mutex);
         seen.anomaly = m;
         ++seen.anomaly_layers;
       });
-  auto clock = nh.subscribe<rosgraph_msgs::Clock>(
-      "/clock", 10000, [&](const rosgraph_msgs::Clock::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        seen.clock_ns.insert(m->clock.toNSec());
-      });
+  auto clock = nh.subscribe<rosgraph_msgs::Clock>("/clock", 10000,
+                                                  [&](const rosgraph_msgs::Clock::ConstPtr& m) {
+                                                    std::lock_guard<std::mutex> lock(seen.mutex);
+                                                    seen.clock_ns.insert(m->clock.toNSec());
+                                                  });
   auto occupied = nh.subscribe<nav_msgs::OccupancyGrid>(
       "/evidential_slam/layers/occupied", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr&) {
         std::lock_guard<std::mutex> lock(seen.mutex);
@@ -343,10 +346,5 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(seen.mutex);
         seen.particles = m;
       });
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning();
 }

@@ -182,10 +182,5 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(seen.mutex);
         seen.last_pose_stamp = m->header.stamp.toSec();
       });
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning();
 }

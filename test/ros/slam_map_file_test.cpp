@@ -14,8 +14,8 @@
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
-#include <nlohmann/json.hpp>
 #include <std_msgs/Bool.h>
+#include <nlohmann/json.hpp>
 
 #include "evidential_slam/SaveMap.h"
 #include "evidential_slam/core/layers.h"
@@ -53,7 +53,8 @@ std::string quote(const std::string& s) {
 
 // Before the player's first scan, /map is the loaded file's map, trinary.
 TEST(SlamMapFile, ServesTheLoadedMapAtStart) {
-  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, [] { return seen->first_map != nullptr; }, 30.0));
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [] { return seen->first_map != nullptr; }, 30.0));
   EvidentialGridMap loaded;
   io::MapFileInfo info;
   std::string error;
@@ -71,7 +72,8 @@ TEST(SlamMapFile, ServesTheLoadedMapAtStart) {
 // The whole log on the loaded map (its first scan at the map frame's origin), then the saved map
 // continued by the offline runner from the log's first scan again.
 TEST(SlamMapFile, ContinuesTheLogAndItsMapContinuesOffline) {
-  ASSERT_TRUE(testing_ros::waitUntil(seen->mutex, [] { return seen->done; }, 150.0))
+  ASSERT_TRUE(testing_ros::waitUntil(
+      seen->mutex, [] { return seen->done; }, 150.0))
       << "the player did not finish";
   std::vector<StampedPose> truth;
   std::string error;
@@ -122,11 +124,11 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   evidential_slam::Seen seen;
   evidential_slam::seen = &seen;
-  auto map = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/map", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        if (!seen.first_map) seen.first_map = m;
-      });
+  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
+                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+                                                     std::lock_guard<std::mutex> lock(seen.mutex);
+                                                     if (!seen.first_map) seen.first_map = m;
+                                                   });
   auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
     std::lock_guard<std::mutex> lock(seen.mutex);
     seen.done = m->data;
@@ -136,10 +138,5 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(seen.mutex);
         seen.last_pose_stamp = m->header.stamp.toSec();
       });
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning();
 }

@@ -128,9 +128,9 @@ TEST(SlamRawlog, MapsTheLogThroughRos) {
   save.request.directory = dir.string();
   ASSERT_TRUE(ros::service::call("/evidential_slam/save_map", save));
   ASSERT_TRUE(save.response.success) << save.response.message;
-  for (const char* f : {"map.evmap", "layers/pignistic.pgm", "layers/pignistic.yaml",
-                        "layers/external_conflict.npy", "layers/composite.png", "trajectory.tum",
-                        "conflict.csv"}) {
+  for (const char* f :
+       {"map.evmap", "layers/pignistic.pgm", "layers/pignistic.yaml",
+        "layers/external_conflict.npy", "layers/composite.png", "trajectory.tum", "conflict.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }
   std::vector<StampedPose> trajectory;
@@ -236,17 +236,17 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(obs.mutex);
         obs.pose = m;
       });
-  auto conflict = nh.subscribe<std_msgs::Float64>(
-      "/evidential_slam/conflict_added", 1000, [&](const std_msgs::Float64::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.conflict_added.push_back(m->data);
-      });
-  auto open_space = nh.subscribe<std_msgs::Float64>(
-      "/evidential_slam/open_space_conflict_added", 1000,
-      [&](const std_msgs::Float64::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.open_space_added.push_back(m->data);
-      });
+  auto conflict = nh.subscribe<std_msgs::Float64>("/evidential_slam/conflict_added", 1000,
+                                                  [&](const std_msgs::Float64::ConstPtr& m) {
+                                                    std::lock_guard<std::mutex> lock(obs.mutex);
+                                                    obs.conflict_added.push_back(m->data);
+                                                  });
+  auto open_space =
+      nh.subscribe<std_msgs::Float64>("/evidential_slam/open_space_conflict_added", 1000,
+                                      [&](const std_msgs::Float64::ConstPtr& m) {
+                                        std::lock_guard<std::mutex> lock(obs.mutex);
+                                        obs.open_space_added.push_back(m->data);
+                                      });
   auto diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
       "/diagnostics", 1000, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(obs.mutex);
@@ -254,10 +254,5 @@ int main(int argc, char** argv) {
           if (s.name.find("external conflict") != std::string::npos) obs.alarm_status.push_back(s);
         }
       });
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return evidential_slam::testing_ros::runAllTestsSpinning();
 }
