@@ -1,7 +1,7 @@
-// The parameter table (parameters.def) as data: each parameter's description, a visitor over the
-// fields of a config, setting a parameter from text (YAML files, --param NAME=VALUE, ROS
-// parameters all go through it) and range checks. ROS-free; ros/params.h binds the same rows to
-// the parameter server and dynamic_reconfigure.
+// The parameter table (parameters.def) as data: each parameter's description, setting a parameter
+// from text (YAML files, --param NAME=VALUE, ROS parameters all go through it) and range checks.
+// The visitor over a config's fields is in parameter_rows.h. ROS-free; ros/params.h binds the
+// same rows to the parameter server and dynamic_reconfigure.
 #pragma once
 
 #include <string>

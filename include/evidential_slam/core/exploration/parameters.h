@@ -1,6 +1,6 @@
-// The explorer's rows of the parameter table (core/parameters.def) as data: a visitor over the
-// fields of an ExplorerConfig, one parameter set by name from text (the node's ROS parameters and
-// the offline tools' --param go through it), and every value as text.
+// The explorer's rows of the parameter table (core/parameters.def) as data: one parameter set by
+// name from text (the node's ROS parameters and the offline tools' --param go through it), and
+// every value as text. The visitor over an ExplorerConfig's fields is in parameter_rows.h.
 #pragma once
 
 #include <string>
