@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <vector>
 
-#include <nav_msgs/MapMetaData.h>
-#include <nav_msgs/OccupancyGrid.h>
 #include <ros/master.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -14,7 +12,6 @@
 #include "evidential_slam/core/fusion/alignment.h"
 #include "evidential_slam/core/fusion/layer_map.h"
 #include "evidential_slam/core/fusion/map_fusion.h"
-#include "evidential_slam/core/layers.h"
 #include "evidential_slam/ros/conversions.h"
 #include "evidential_slam/ros/parameter_text.h"
 
@@ -31,6 +28,7 @@ MapFusionNodelet::~MapFusionNodelet() {
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  publisher_.reset();  // its thread reads fused_
 }
 
 void MapFusionNodelet::onInit() {
@@ -42,13 +40,11 @@ void MapFusionNodelet::onInit() {
     return;
   }
   fusion::parseRule(params_.rule, &rule_);
-  map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
-  metadata_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
-  grid_pub_ = private_nh_.advertise<EvidentialGrid>("grid", 1, true);
-  for (int l = 0; l < kLayerCount; ++l) {
-    layer_pubs_[l] =
-        private_nh_.advertise<nav_msgs::OccupancyGrid>("layers/" + layerNames()[l], 1, true);
-  }
+  publisher_ = std::make_unique<MapPublisher>(nh_, private_nh_, params_.world_frame, [this] {
+    std::lock_guard<std::mutex> lock(fused_mutex_);
+    return fused_;
+  });
+  publisher_->setThresholds(params_.session.occupied_thresh, params_.session.free_thresh);
   NODELET_INFO("map_fusion: %s rule, discount %g, robots' maps on */%s%s%s, %s poses",
                params_.rule.c_str(), params_.discount, params_.robot_map_topic.c_str(),
                params_.robot_namespace.empty() ? "" : " containing ",
@@ -71,7 +67,7 @@ void MapFusionNodelet::onInit() {
 void MapFusionNodelet::discover() {
   ros::master::V_TopicInfo topics;
   if (!ros::master::getTopics(topics)) return;
-  const std::string own_grid = grid_pub_.getTopic();
+  const std::string own_grid = private_nh_.resolveName("grid");
   for (const ros::master::TopicInfo& t : topics) {
     if (t.datatype != "evidential_slam/EvidentialGrid" || t.name == own_grid) continue;
     if (t.name.find(params_.robot_namespace) == std::string::npos) continue;
@@ -262,13 +258,18 @@ bool MapFusionNodelet::fuseOnce() {
     NODELET_WARN_THROTTLE(10.0, "map_fusion: %s", why.c_str());
     return false;
   }
-  const ros::WallTime publish_start = ros::WallTime::now();
-  publish(fused, stamp);
   const ros::WallTime end = ros::WallTime::now();
+  {
+    std::lock_guard<std::mutex> lock(fused_mutex_);
+    fused_.grid = std::make_shared<const EvidentialGridMap>(std::move(fused));
+    fused_.stamp = stamp;
+    ++fused_.version;
+    fused_.anomaly_version = fused_.version;
+  }
+  publisher_->requestUpdate();
   const double cycle_s = (end - cycle_start).toSec();
   ++times_.cycles;
-  times_.fuse_s += (publish_start - fuse_start).toSec();
-  times_.publish_s += (end - publish_start).toSec();
+  times_.fuse_s += (end - fuse_start).toSec();
   times_.total_s += cycle_s;
   times_.max_s = std::max(times_.max_s, cycle_s);
   NODELET_DEBUG("map_fusion: %zu maps, %zu cells, %zu overlapping, mean conflict %.4f; %.3f s",
@@ -277,33 +278,11 @@ bool MapFusionNodelet::fuseOnce() {
   const double n = static_cast<double>(times_.cycles);
   NODELET_INFO_THROTTLE(60.0,
                         "map_fusion: %zu fusions of %zu cells (last), mean wall time %.3f s "
-                        "(fusion %.3f s, publishing %.3f s), longest cycle %.3f s; %zu alignments, "
-                        "%.3f s each",
+                        "(fusion %.3f s), longest cycle %.3f s; %zu alignments, %.3f s each",
                         times_.cycles, report.fused_cells, times_.total_s / n, times_.fuse_s / n,
-                        times_.publish_s / n, times_.max_s, times_.alignments,
+                        times_.max_s, times_.alignments,
                         times_.alignments > 0 ? times_.align_s / times_.alignments : 0.0);
   return true;
-}
-
-void MapFusionNodelet::publish(const EvidentialGridMap& fused, double stamp) {
-  const LayerRaster raster = extractLayers(fused);
-  std_msgs::Header header;
-  header.stamp.fromSec(stamp);
-  header.frame_id = params_.world_frame;
-  nav_msgs::OccupancyGrid map;
-  toTrinaryOccupancyGrid(raster, params_.session.occupied_thresh, params_.session.free_thresh,
-                         header, &map);
-  map_pub_.publish(map);
-  metadata_pub_.publish(map.info);
-  EvidentialGrid grid;
-  toEvidentialGridMsg(raster, header, &grid);
-  grid_pub_.publish(grid);
-  for (int l = 0; l < kLayerCount; ++l) {
-    nav_msgs::OccupancyGrid layer;
-    toOccupancyGrid(raster, static_cast<Layer>(l), layerRendering(static_cast<Layer>(l), 2.0),
-                    header, &layer);
-    layer_pubs_[l].publish(layer);
-  }
 }
 
 }  // namespace ros_adapter

@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <mutex>
+#include <sstream>
+#include <string>
 
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
@@ -56,8 +58,19 @@ int valueAt(const nav_msgs::OccupancyGrid& g, double x, double y) {
   return g.data[static_cast<size_t>(row) * g.info.width + static_cast<size_t>(col)];
 }
 
+// What the test last received on /map, for a failure message.
+std::string describe(bool have_map, const nav_msgs::OccupancyGrid& g, double x, double y) {
+  if (!have_map) return "no /map received";
+  std::ostringstream out;
+  out << "the last /map: " << g.info.width << " x " << g.info.height << " cells from ("
+      << g.info.origin.position.x << ", " << g.info.origin.position.y << "), value "
+      << valueAt(g, x, y) << " at (" << x << ", " << y << ")";
+  return out.str();
+}
+
 TEST(MapFusion, FusesThePosedRobotsMapsInTheWorldFrame) {
   ros::NodeHandle nh;
+  testing_ros::NodeLog node_log(nh);
   std::mutex mutex;
   nav_msgs::OccupancyGrid map;
   EvidentialGrid grid;
@@ -86,9 +99,11 @@ TEST(MapFusion, FusesThePosedRobotsMapsInTheWorldFrame) {
   auto both = [&] {
     return have_map && have_grid && valueAt(map, 1.0, 1.0) == 0 && valueAt(map, 9.0, 1.0) == 0;
   };
-  ASSERT_TRUE(testing_ros::waitUntil(mutex, both, 30.0)) << "no fused map with both robots";
-
+  const bool fused = testing_ros::waitUntil(mutex, both, 30.0);
   std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_TRUE(fused) << "no fused map with both robots; " << describe(have_map, map, 9.0, 1.0)
+                     << "\n"
+                     << node_log.str();
   EXPECT_EQ(map.header.frame_id, "world");
   EXPECT_EQ(grid.header.frame_id, "world");
   EXPECT_EQ(grid.layers.size(), static_cast<size_t>(kLayerCount));
@@ -117,6 +132,7 @@ TEST(MapFusion, FusesThePosedRobotsMapsInTheWorldFrame) {
 // Without init poses the node must put robot2's part where the office is and leave robot3 out.
 TEST(MapFusion, EstimatesWhereARobotsMapFitsAndLeavesOutOneThatFitsNowhere) {
   ros::NodeHandle nh;
+  testing_ros::NodeLog node_log(nh);
   std::mutex mutex;
   nav_msgs::OccupancyGrid map;
   bool have_map = false;
@@ -142,9 +158,11 @@ TEST(MapFusion, EstimatesWhereARobotsMapFitsAndLeavesOutOneThatFitsNowhere) {
       synthetic::paint(synthetic::clutter(5), Pose2(-30.0, 0.0, 0.0), {8.0, 8.0}, 8.0, kCell, 3)));
   // Free in the corridor east of robot1's reach: only robot2 saw it.
   auto placed = [&] { return have_map && valueAt(map, 19.0, 7.0) == 0; };
-  ASSERT_TRUE(testing_ros::waitUntil(mutex, placed, 90.0)) << "robot2's map was not placed";
-
+  const bool was_placed = testing_ros::waitUntil(mutex, placed, 90.0);
   std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_TRUE(was_placed) << "robot2's map was not placed; " << describe(have_map, map, 19.0, 7.0)
+                          << "\n"
+                          << node_log.str();
   EXPECT_EQ(map.header.frame_id, "world");
   // The office's east wall (x = 20 m) where robot2 saw it, within a cell.
   for (double y : {2.0, 7.0, 12.0}) {

@@ -2,11 +2,15 @@
 #pragma once
 
 #include <chrono>
+#include <deque>
 #include <mutex>
+#include <sstream>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 
 namespace evidential_slam {
 namespace testing_ros {
@@ -37,6 +41,34 @@ inline int runAllTestsSpinning(int threads = 2) {
   ros::shutdown();
   return result;
 }
+
+// The last `capacity` lines the other nodes logged on /rosout (rostest runs no rosout node to
+// aggregate them), for a failure message: what the nodes said while the test waited.
+class NodeLog {
+ public:
+  explicit NodeLog(ros::NodeHandle& nh, size_t capacity = 20) : capacity_(capacity) {
+    sub_ = nh.subscribe<rosgraph_msgs::Log>("/rosout", 100,
+                                            [this](const rosgraph_msgs::Log::ConstPtr& m) {
+                                              if (m->name == ros::this_node::getName()) return;
+                                              std::lock_guard<std::mutex> lock(mutex_);
+                                              lines_.push_back(m->name + ": " + m->msg);
+                                              if (lines_.size() > capacity_) lines_.pop_front();
+                                            });
+  }
+  std::string str() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::ostringstream out;
+    out << "the other nodes logged " << (lines_.empty() ? "nothing" : "(last lines):");
+    for (const std::string& line : lines_) out << "\n  " << line;
+    return out.str();
+  }
+
+ private:
+  size_t capacity_;
+  mutable std::mutex mutex_;
+  std::deque<std::string> lines_;
+  ros::Subscriber sub_;
+};
 
 }  // namespace testing_ros
 }  // namespace evidential_slam

@@ -1,8 +1,9 @@
 // The map_fusion nodelet: finds robots by their EvidentialGrid topics (as m-explore's map_merge
 // finds OccupancyGrid ones), places each robot's map by its initial pose in world_frame (given as
 // map_merge's <robot>/map_merge/init_pose_* parameters, or estimated by fusion::alignMaps), fuses
-// them by one combination rule (fusion::fuseMaps) on its own thread, and publishes the fused map:
-// ~grid (EvidentialGrid), ~layers/<name> and a trinary `map` with its `map_metadata`.
+// them by one combination rule (fusion::fuseMaps) on its own thread, and hands the fused map to a
+// MapPublisher (as the SLAM nodelet does): `map`, `map_metadata`, ~grid and ~layers/<name>, the
+// last two rendered only for their subscribers.
 #pragma once
 
 #include <array>
@@ -24,6 +25,7 @@
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/pose2.h"
 #include "evidential_slam/ros/map_fusion_params.h"
+#include "evidential_slam/ros/map_publisher.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -56,13 +58,13 @@ class MapFusionNodelet : public nodelet::Nodelet {
   void onGrid(const std::string& robot, const EvidentialGrid::ConstPtr& msg);
   void run();
   bool fuseOnce();
-  void publish(const EvidentialGridMap& fused, double stamp);
 
   MapFusionParams params_;
   fusion::Rule rule_ = fusion::Rule::kCautious;
   ros::NodeHandle nh_, private_nh_;
-  ros::Publisher map_pub_, metadata_pub_, grid_pub_;
-  std::array<ros::Publisher, kLayerCount> layer_pubs_;
+  std::unique_ptr<MapPublisher> publisher_;
+  std::mutex fused_mutex_;  // guards fused_ (the fusion thread writes it, the publisher reads it)
+  MapSnapshot fused_;
   ros::WallTimer discovery_timer_, merging_timer_;
 
   std::mutex mutex_;  // guards robots_, wake_requested_, stop_
@@ -75,7 +77,7 @@ class MapFusionNodelet : public nodelet::Nodelet {
   // Wall time of the fusion cycles so far (fusion thread only): logged every minute.
   struct CycleTimes {
     size_t cycles = 0, alignments = 0;
-    double total_s = 0.0, align_s = 0.0, fuse_s = 0.0, publish_s = 0.0, max_s = 0.0;
+    double total_s = 0.0, align_s = 0.0, fuse_s = 0.0, max_s = 0.0;
   } times_;
   std::thread thread_;
 };
