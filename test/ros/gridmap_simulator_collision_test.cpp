@@ -87,16 +87,14 @@ int main(int argc, char** argv) {
   evidential_slam::observed = &obs;
   ros::Publisher cmd_vel = nh.advertise<geometry_msgs::Twist>("/cmd_vel", 10);
   evidential_slam::cmd_vel = &cmd_vel;
-  auto collisions = nh.subscribe<std_msgs::UInt32>("/gridmap_simulator/collisions", 10,
-                                                   [&](const std_msgs::UInt32::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(obs.mutex);
-                                                     obs.have_collisions = true;
-                                                     obs.collisions = m->data;
-                                                     ++obs.collision_messages;
-                                                   });
-  auto pose = nh.subscribe<geometry_msgs::PoseStamped>(
-      "/ground_truth_pose", 100, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
+  auto collisions = evidential_slam::testing_ros::subscribeLocked<std_msgs::UInt32>(
+      nh, "/gridmap_simulator/collisions", 10, obs.mutex, [&](const std_msgs::UInt32::ConstPtr& m) {
+        obs.have_collisions = true;
+        obs.collisions = m->data;
+        ++obs.collision_messages;
+      });
+  auto pose = evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseStamped>(
+      nh, "/ground_truth_pose", 100, obs.mutex, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
         obs.have_pose = true;
         obs.x = m->pose.position.x;
         obs.y = m->pose.position.y;

@@ -175,45 +175,38 @@ int main(int argc, char** argv) {
   tf2_ros::Buffer buffer(ros::Duration(300.0));
   tf2_ros::TransformListener listener(buffer);
   evidential_slam::tf_buffer = &buffer;
-  auto done = nh.subscribe<std_msgs::Bool>("/gridmap_simulator/done", 1, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(obs.mutex);
-    obs.done = m->data;
-  });
-  auto collisions = nh.subscribe<std_msgs::UInt32>("/gridmap_simulator/collisions", 1,
-                                                   [&](const std_msgs::UInt32::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(obs.mutex);
-                                                     obs.have_collisions = true;
-                                                     obs.collisions = m->data;
-                                                   });
-  auto scan = nh.subscribe<sensor_msgs::LaserScan>("/scan", 1000,
-                                                   [&](const sensor_msgs::LaserScan::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(obs.mutex);
-                                                     ++obs.scans;
-                                                     obs.last_scan_stamp = m->header.stamp.toSec();
-                                                     obs.scan_rays = m->ranges.size();
-                                                     obs.scan_frame = m->header.frame_id;
-                                                   });
-  auto truth_pose = nh.subscribe<geometry_msgs::PoseStamped>(
-      "/ground_truth_pose", 1000, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.truth_poses.push_back(*m);
+  auto done = evidential_slam::testing_ros::subscribeLocked<std_msgs::Bool>(
+      nh, "/gridmap_simulator/done", 1, obs.mutex, [&](const auto& m) { obs.done = m->data; });
+  auto collisions = evidential_slam::testing_ros::subscribeLocked<std_msgs::UInt32>(
+      nh, "/gridmap_simulator/collisions", 1, obs.mutex, [&](const std_msgs::UInt32::ConstPtr& m) {
+        obs.have_collisions = true;
+        obs.collisions = m->data;
       });
-  auto truth_path =
-      nh.subscribe<nav_msgs::Path>("/ground_truth", 1, [&](const nav_msgs::Path::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.truth_path = m;
+  auto scan = evidential_slam::testing_ros::subscribeLocked<sensor_msgs::LaserScan>(
+      nh, "/scan", 1000, obs.mutex, [&](const sensor_msgs::LaserScan::ConstPtr& m) {
+        ++obs.scans;
+        obs.last_scan_stamp = m->header.stamp.toSec();
+        obs.scan_rays = m->ranges.size();
+        obs.scan_frame = m->header.frame_id;
       });
-  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "/evidential_slam/pose", 10,
-      [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.slam_pose = m;
-        obs.pose_stamps_ns.insert(m->header.stamp.toNSec());
+  auto truth_pose = evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseStamped>(
+      nh, "/ground_truth_pose", 1000, obs.mutex,
+      [&](const geometry_msgs::PoseStamped::ConstPtr& m) { obs.truth_poses.push_back(*m); });
+  auto truth_path = evidential_slam::testing_ros::subscribeLocked<nav_msgs::Path>(
+      nh, "/ground_truth", 1, obs.mutex,
+      [&](const nav_msgs::Path::ConstPtr& m) { obs.truth_path = m; });
+  auto pose =
+      evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseWithCovarianceStamped>(
+          nh, "/evidential_slam/pose", 10, obs.mutex,
+          [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+            obs.slam_pose = m;
+            obs.pose_stamps_ns.insert(m->header.stamp.toNSec());
+          });
+  auto tf = evidential_slam::testing_ros::subscribeLocked<tf2_msgs::TFMessage>(
+      nh, "/tf", 1000, obs.mutex, [&](const auto& m) {
+        for (const auto& t : m->transforms)
+          if (t.header.frame_id == "map" && t.child_frame_id == "odom")
+            obs.map_to_odom.push_back(t);
       });
-  auto tf = nh.subscribe<tf2_msgs::TFMessage>("/tf", 1000, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(obs.mutex);
-    for (const auto& t : m->transforms)
-      if (t.header.frame_id == "map" && t.child_frame_id == "odom") obs.map_to_odom.push_back(t);
-  });
   return evidential_slam::testing_ros::runAllTestsSpinning();
 }

@@ -31,6 +31,17 @@ bool waitUntil(std::mutex& mutex, F&& ready, double seconds) {
   return ready();
 }
 
+// Subscribes to `topic` and hands each message to `record` under `mutex`: the lock every rostest
+// takes around what its callbacks store for the test to read.
+template <typename M, typename F>
+ros::Subscriber subscribeLocked(ros::NodeHandle& nh, const std::string& topic, uint32_t queue_size,
+                                std::mutex& mutex, F record) {
+  return nh.subscribe<M>(topic, queue_size, [&mutex, record](const typename M::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    record(m);
+  });
+}
+
 // A rostest program's end: runs every test while `threads` spinner threads serve the callbacks,
 // then shuts ROS down. Returns RUN_ALL_TESTS()'s result.
 inline int runAllTestsSpinning(int threads = 2) {

@@ -20,11 +20,11 @@
 #include <std_srvs/Empty.h>
 #include <std_srvs/SetBool.h>
 
+#include "cell_support.h"
 #include "evidential_slam/LoadMap.h"
 #include "evidential_slam/SaveMap.h"
 #include "evidential_slam/io/map_file.h"
 #include "room_robot.h"
-#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -281,16 +281,13 @@ int main(int argc, char** argv) {
   evidential_slam::robot = &robot;
   evidential_slam::Seen seen;
   evidential_slam::seen = &seen;
-  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "/evidential_slam/pose", 10, [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        seen.pose = m;
-      });
-  auto path = nh.subscribe<nav_msgs::Path>("/evidential_slam/path", 10,
-                                           [&](const nav_msgs::Path::ConstPtr& m) {
-                                             std::lock_guard<std::mutex> lock(seen.mutex);
-                                             seen.path = m;
-                                           });
+  auto pose =
+      evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseWithCovarianceStamped>(
+          nh, "/evidential_slam/pose", 10, seen.mutex,
+          [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) { seen.pose = m; });
+  auto path = evidential_slam::testing_ros::subscribeLocked<nav_msgs::Path>(
+      nh, "/evidential_slam/path", 10, seen.mutex,
+      [&](const nav_msgs::Path::ConstPtr& m) { seen.path = m; });
   ros::AsyncSpinner spinner(2);
   spinner.start();
   robot.waitForSlam();

@@ -294,29 +294,24 @@ int main(int argc, char** argv) {
   tf2_ros::Buffer tf_buffer(ros::Duration(300.0));
   tf2_ros::TransformListener tf_listener(tf_buffer);
   evidential_slam::tf_buffer = &tf_buffer;
-  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
-                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(seen.mutex);
-                                                     if (!seen.first_map) seen.first_map = m;
-                                                     seen.last_map = m;
-                                                     ++seen.maps;
-                                                   });
-  auto anomaly = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/evidential_slam/layers/anomaly", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
+  auto map = evidential_slam::testing_ros::subscribeLocked<nav_msgs::OccupancyGrid>(
+      nh, "/map", 1, seen.mutex, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+        if (!seen.first_map) seen.first_map = m;
+        seen.last_map = m;
+        ++seen.maps;
+      });
+  auto anomaly = evidential_slam::testing_ros::subscribeLocked<nav_msgs::OccupancyGrid>(
+      nh, "/evidential_slam/layers/anomaly", 1, seen.mutex,
+      [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
         seen.anomaly = m;
         ++seen.anomaly_layers;
       });
-  auto clock = nh.subscribe<rosgraph_msgs::Clock>("/clock", 10000,
-                                                  [&](const rosgraph_msgs::Clock::ConstPtr& m) {
-                                                    std::lock_guard<std::mutex> lock(seen.mutex);
-                                                    seen.clock_ns.insert(m->clock.toNSec());
-                                                  });
-  auto occupied = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/evidential_slam/layers/occupied", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr&) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        ++seen.occupied_layers;
-      });
+  auto clock = evidential_slam::testing_ros::subscribeLocked<rosgraph_msgs::Clock>(
+      nh, "/clock", 10000, seen.mutex,
+      [&](const rosgraph_msgs::Clock::ConstPtr& m) { seen.clock_ns.insert(m->clock.toNSec()); });
+  auto occupied = evidential_slam::testing_ros::subscribeLocked<nav_msgs::OccupancyGrid>(
+      nh, "/evidential_slam/layers/occupied", 1, seen.mutex,
+      [&](const nav_msgs::OccupancyGrid::ConstPtr&) { ++seen.occupied_layers; });
   auto tf =
       nh.subscribe<tf2_msgs::TFMessage>("/tf", 100, [&](const tf2_msgs::TFMessage::ConstPtr& m) {
         for (const auto& t : m->transforms) {
@@ -327,24 +322,20 @@ int main(int argc, char** argv) {
                evidential_slam::ros_adapter::pose2FromTransform(t.transform)});
         }
       });
-  auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(seen.mutex);
-    seen.done = m->data;
-  });
-  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "/evidential_slam/pose", 100,
-      [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        const evidential_slam::Pose2 p =
-            evidential_slam::ros_adapter::pose2FromPoseMsg(m->pose.pose);
-        seen.poses[m->header.stamp.toSec()] = p;
-        seen.last_pose = m;
-        seen.pose_log.push_back({++seen.received, m->header.stamp, p});
-      });
-  auto particles = nh.subscribe<geometry_msgs::PoseArray>(
-      "/evidential_slam/particles", 2, [&](const geometry_msgs::PoseArray::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        seen.particles = m;
-      });
+  auto done = evidential_slam::testing_ros::subscribeLocked<std_msgs::Bool>(
+      nh, "/rawlog_player/done", 1, seen.mutex, [&](const auto& m) { seen.done = m->data; });
+  auto pose =
+      evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseWithCovarianceStamped>(
+          nh, "/evidential_slam/pose", 100, seen.mutex,
+          [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+            const evidential_slam::Pose2 p =
+                evidential_slam::ros_adapter::pose2FromPoseMsg(m->pose.pose);
+            seen.poses[m->header.stamp.toSec()] = p;
+            seen.last_pose = m;
+            seen.pose_log.push_back({++seen.received, m->header.stamp, p});
+          });
+  auto particles = evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseArray>(
+      nh, "/evidential_slam/particles", 2, seen.mutex,
+      [&](const geometry_msgs::PoseArray::ConstPtr& m) { seen.particles = m; });
   return evidential_slam::testing_ros::runAllTestsSpinning();
 }

@@ -162,25 +162,20 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   evidential_slam::Seen seen;
   evidential_slam::seen = &seen;
-  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
-                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(seen.mutex);
-                                                     if (!seen.first_map) seen.first_map = m;
-                                                     seen.last_map = m;
-                                                     ++seen.maps;
-                                                   });
-  auto scans = nh.subscribe<sensor_msgs::LaserScan>("/scan", 100, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(seen.mutex);
-    seen.last_scan_stamp = m->header.stamp.toSec();
-  });
-  auto done = nh.subscribe<std_msgs::Bool>("/gridmap_simulator/done", 1, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(seen.mutex);
-    seen.done = m->data;
-  });
-  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "/evidential_slam/pose", 10, [&](const auto& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        seen.last_pose_stamp = m->header.stamp.toSec();
+  auto map = evidential_slam::testing_ros::subscribeLocked<nav_msgs::OccupancyGrid>(
+      nh, "/map", 1, seen.mutex, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+        if (!seen.first_map) seen.first_map = m;
+        seen.last_map = m;
+        ++seen.maps;
       });
+  auto scans = evidential_slam::testing_ros::subscribeLocked<sensor_msgs::LaserScan>(
+      nh, "/scan", 100, seen.mutex,
+      [&](const auto& m) { seen.last_scan_stamp = m->header.stamp.toSec(); });
+  auto done = evidential_slam::testing_ros::subscribeLocked<std_msgs::Bool>(
+      nh, "/gridmap_simulator/done", 1, seen.mutex, [&](const auto& m) { seen.done = m->data; });
+  auto pose =
+      evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseWithCovarianceStamped>(
+          nh, "/evidential_slam/pose", 10, seen.mutex,
+          [&](const auto& m) { seen.last_pose_stamp = m->header.stamp.toSec(); });
   return evidential_slam::testing_ros::runAllTestsSpinning();
 }

@@ -124,19 +124,15 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   evidential_slam::Seen seen;
   evidential_slam::seen = &seen;
-  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
-                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(seen.mutex);
-                                                     if (!seen.first_map) seen.first_map = m;
-                                                   });
-  auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(seen.mutex);
-    seen.done = m->data;
-  });
-  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "/evidential_slam/pose", 10, [&](const auto& m) {
-        std::lock_guard<std::mutex> lock(seen.mutex);
-        seen.last_pose_stamp = m->header.stamp.toSec();
+  auto map = evidential_slam::testing_ros::subscribeLocked<nav_msgs::OccupancyGrid>(
+      nh, "/map", 1, seen.mutex, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
+        if (!seen.first_map) seen.first_map = m;
       });
+  auto done = evidential_slam::testing_ros::subscribeLocked<std_msgs::Bool>(
+      nh, "/rawlog_player/done", 1, seen.mutex, [&](const auto& m) { seen.done = m->data; });
+  auto pose =
+      evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseWithCovarianceStamped>(
+          nh, "/evidential_slam/pose", 10, seen.mutex,
+          [&](const auto& m) { seen.last_pose_stamp = m->header.stamp.toSec(); });
   return evidential_slam::testing_ros::runAllTestsSpinning();
 }

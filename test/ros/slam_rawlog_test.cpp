@@ -212,47 +212,34 @@ int main(int argc, char** argv) {
   tf2_ros::Buffer buffer;
   tf2_ros::TransformListener listener(buffer);
   evidential_slam::tf_buffer = &buffer;
-  auto done = nh.subscribe<std_msgs::Bool>("/rawlog_player/done", 1, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(obs.mutex);
-    obs.done = m->data;
-  });
-  auto path = nh.subscribe<nav_msgs::Path>("/evidential_slam/path", 100, [&](const auto& m) {
-    std::lock_guard<std::mutex> lock(obs.mutex);
-    obs.path_sizes.push_back(m->poses.size());
-  });
-  auto grid = nh.subscribe<evidential_slam::EvidentialGrid>(
-      "/evidential_slam/grid", 1, [&](const evidential_slam::EvidentialGrid::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.grid = m;
-      });
-  auto map = nh.subscribe<nav_msgs::OccupancyGrid>("/map", 1,
-                                                   [&](const nav_msgs::OccupancyGrid::ConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(obs.mutex);
-                                                     obs.map = m;
-                                                   });
-  auto pose = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "/evidential_slam/pose", 10,
-      [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        obs.pose = m;
-      });
-  auto conflict = nh.subscribe<std_msgs::Float64>("/evidential_slam/conflict_added", 1000,
-                                                  [&](const std_msgs::Float64::ConstPtr& m) {
-                                                    std::lock_guard<std::mutex> lock(obs.mutex);
-                                                    obs.conflict_added.push_back(m->data);
-                                                  });
-  auto open_space =
-      nh.subscribe<std_msgs::Float64>("/evidential_slam/open_space_conflict_added", 1000,
-                                      [&](const std_msgs::Float64::ConstPtr& m) {
-                                        std::lock_guard<std::mutex> lock(obs.mutex);
-                                        obs.open_space_added.push_back(m->data);
-                                      });
-  auto diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 1000, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(obs.mutex);
-        for (const auto& s : m->status) {
-          if (s.name.find("external conflict") != std::string::npos) obs.alarm_status.push_back(s);
-        }
-      });
+  auto done = evidential_slam::testing_ros::subscribeLocked<std_msgs::Bool>(
+      nh, "/rawlog_player/done", 1, obs.mutex, [&](const auto& m) { obs.done = m->data; });
+  auto path = evidential_slam::testing_ros::subscribeLocked<nav_msgs::Path>(
+      nh, "/evidential_slam/path", 100, obs.mutex,
+      [&](const auto& m) { obs.path_sizes.push_back(m->poses.size()); });
+  auto grid = evidential_slam::testing_ros::subscribeLocked<evidential_slam::EvidentialGrid>(
+      nh, "/evidential_slam/grid", 1, obs.mutex,
+      [&](const evidential_slam::EvidentialGrid::ConstPtr& m) { obs.grid = m; });
+  auto map = evidential_slam::testing_ros::subscribeLocked<nav_msgs::OccupancyGrid>(
+      nh, "/map", 1, obs.mutex, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { obs.map = m; });
+  auto pose =
+      evidential_slam::testing_ros::subscribeLocked<geometry_msgs::PoseWithCovarianceStamped>(
+          nh, "/evidential_slam/pose", 10, obs.mutex,
+          [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) { obs.pose = m; });
+  auto conflict = evidential_slam::testing_ros::subscribeLocked<std_msgs::Float64>(
+      nh, "/evidential_slam/conflict_added", 1000, obs.mutex,
+      [&](const std_msgs::Float64::ConstPtr& m) { obs.conflict_added.push_back(m->data); });
+  auto open_space = evidential_slam::testing_ros::subscribeLocked<std_msgs::Float64>(
+      nh, "/evidential_slam/open_space_conflict_added", 1000, obs.mutex,
+      [&](const std_msgs::Float64::ConstPtr& m) { obs.open_space_added.push_back(m->data); });
+  auto diagnostics =
+      evidential_slam::testing_ros::subscribeLocked<diagnostic_msgs::DiagnosticArray>(
+          nh, "/diagnostics", 1000, obs.mutex,
+          [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+            for (const auto& s : m->status) {
+              if (s.name.find("external conflict") != std::string::npos)
+                obs.alarm_status.push_back(s);
+            }
+          });
   return evidential_slam::testing_ros::runAllTestsSpinning();
 }
