@@ -379,10 +379,11 @@ TEST(Localizer, KidnapIsDetectedAndRecovered) {
 }
 
 // Odometry that under-reports every turn by 30 % (0.25 rad turned, 0.175 reported: 0.075 rad of
-// heading error per update, as real wheels slip; the SLAM's alpha_rot_rot 0.005 spreads such a
-// step by 0.018 rad, 4 σ short of it): the proposal samples the drift (odom_drift_*, a heading
-// σ of √(0.006 · 0.175 + 0.006 · 0.12) = 0.042 rad here) and the estimate stays on the truth.
-// With the drift off (the floors alone) the same run loses the heading.
+// heading error per update, as real wheels slip; the SLAM's alpha_* of the real preset spread such
+// a step's heading by 0.013 rad, 6 σ short of it): the proposal samples the drift (odom_drift_*, a
+// heading σ of √(0.006 · 0.175 + 0.006 · 0.12) = 0.042 rad here) and the estimate stays on the
+// truth (worst position error in m plus heading error in rad over the run below 0.1). With the
+// drift off (the floors alone) the same run loses the heading (above 0.3).
 double worstErrorWithSlippingTurns(const LocalizationConfig& c) {
   Localizer loc(c, slamConfig());
   EXPECT_TRUE(loc.setMap(roomMap(), nullptr));
