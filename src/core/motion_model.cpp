@@ -82,4 +82,26 @@ Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionMo
   return previous.compose(noisy);
 }
 
+void driftSigmas(const Pose2& increment, const OdometryDrift& d, double* sd_rot1, double* sd_trans,
+                 double* sd_rot2) {
+  const OdometrySplit s = split(increment);
+  const double t = std::abs(s.trans), r1 = std::abs(s.rot1), r2 = std::abs(s.rot2);
+  const double floor_a = d.min_sigma_theta * d.min_sigma_theta;
+  *sd_rot1 = std::sqrt(d.rot_rot * r1 + 0.5 * d.rot_trans * t + floor_a);
+  *sd_trans =
+      std::sqrt(d.trans_trans * t + d.trans_rot * (r1 + r2) + d.min_sigma_xy * d.min_sigma_xy);
+  *sd_rot2 = std::sqrt(d.rot_rot * r2 + 0.5 * d.rot_trans * t + floor_a);
+}
+
+Pose2 sampleDrift(const Pose2& previous, const Pose2& increment, const OdometryDrift& d, Rng* rng) {
+  const OdometrySplit s = split(increment);
+  double sd_rot1, sd_trans, sd_rot2;
+  driftSigmas(increment, d, &sd_rot1, &sd_trans, &sd_rot2);
+  const double rot1_hat = s.rot1 + sd_rot1 * rng->gaussian();
+  const double trans_hat = s.trans + sd_trans * rng->gaussian();
+  const double rot2_hat = s.rot2 + sd_rot2 * rng->gaussian();
+  return previous.compose(
+      Pose2(trans_hat * std::cos(rot1_hat), trans_hat * std::sin(rot1_hat), rot1_hat + rot2_hat));
+}
+
 }  // namespace evidential_slam

@@ -162,5 +162,68 @@ TEST(MotionModelTest, AlongTrackLogPrior) {
   EXPECT_EQ(alongTrackLogPrior(Pose2(), Pose2(0.5, 0.0, 0.3), Pose2(0.0, 0.0, 0.3), c, 3.0), 0.0);
 }
 
+// The localizer's drift (sampleDrift): variances linear in the motion. rot_rot 0.04 rad²/rad,
+// rot_trans 0.02 rad²/m, trans_trans 0.01 m²/m, trans_rot 0.03 m²/rad, no floors.
+OdometryDrift kDrift() {
+  OdometryDrift d;
+  d.rot_rot = 0.04;
+  d.rot_trans = 0.02;
+  d.trans_trans = 0.01;
+  d.trans_rot = 0.03;
+  return d;
+}
+
+// By hand: 1 m straight (rot1 = rot2 = 0, trans = 1): σ_rot1 = σ_rot2 = √(0.02 · 1 / 2) = 0.1,
+// σ_trans = √(0.01 · 1) = 0.1. A quarter turn on the spot (rot1 = 0, trans = 0, rot2 = π/2):
+// σ_rot1 = 0, σ_rot2 = √(0.04 · π/2) = 0.250663, σ_trans = √(0.03 · π/2) = 0.217080. Floors add
+// in quadrature: σ_rot1 = √(0 + 0.002²) = 0.002.
+TEST(MotionModelTest, DriftSigmasByHand) {
+  double r1, t, r2;
+  driftSigmas(Pose2(1.0, 0.0, 0.0), kDrift(), &r1, &t, &r2);
+  EXPECT_NEAR(r1, 0.1, 1e-12);
+  EXPECT_NEAR(t, 0.1, 1e-12);
+  EXPECT_NEAR(r2, 0.1, 1e-12);
+  driftSigmas(Pose2(0.0, 0.0, kPi / 2), kDrift(), &r1, &t, &r2);
+  EXPECT_NEAR(r1, 0.0, 1e-12);
+  EXPECT_NEAR(t, 0.217080, 1e-6);
+  EXPECT_NEAR(r2, 0.250663, 1e-6);
+  OdometryDrift floored = kDrift();
+  floored.min_sigma_theta = 0.002;
+  driftSigmas(Pose2(0.0, 0.0, kPi / 2), floored, &r1, &t, &r2);
+  EXPECT_NEAR(r1, 0.002, 1e-12);
+}
+
+// A motion sampled in two halves spreads as much as in one step: the heading's variance after
+// 1 m straight is σ_rot1² + σ_rot2² = 0.02 either way (two halves: 2 · 0.02 · 0.5 = 0.02). The
+// square-law model (sampleMotion, α_rt = 0.02 rad²/m²) gives 2 · 0.02 · 1² = 0.04 in one step and
+// 2 · 2 · 0.02 · 0.5² = 0.02 in two: its spread per metre halves when the steps do. N = 40000:
+// the variance's standard error is 0.02 · √(2/N) = 1.4e-4; tolerance 7e-4.
+TEST(MotionModelTest, DriftSpreadsTheSameWhateverTheStep) {
+  const int n = 40000;
+  const auto headingVariance = [&](int steps, bool drift) {
+    MotionModelConfig square;
+    square.alpha_rot_rot = square.alpha_trans_trans = square.alpha_trans_rot = 0.0;
+    square.alpha_rot_trans = 0.02;
+    square.min_sigma_xy = square.min_sigma_theta = 0.0;
+    Rng rng(11);
+    double s = 0.0, ss = 0.0;
+    for (int i = 0; i < n; ++i) {
+      Pose2 p;
+      for (int k = 0; k < steps; ++k) {
+        const Pose2 step(1.0 / steps, 0.0, 0.0);
+        p = drift ? sampleDrift(p, step, kDrift(), &rng) : sampleMotion(p, step, square, &rng);
+      }
+      s += p.theta;
+      ss += p.theta * p.theta;
+    }
+    return ss / n - (s / n) * (s / n);
+  };
+  EXPECT_NEAR(headingVariance(1, true), 0.02, 7e-4);
+  EXPECT_NEAR(headingVariance(2, true), 0.02, 7e-4);
+  EXPECT_NEAR(headingVariance(5, true), 0.02, 7e-4);
+  EXPECT_NEAR(headingVariance(1, false), 0.04, 1.4e-3);
+  EXPECT_NEAR(headingVariance(2, false), 0.02, 7e-4);
+}
+
 }  // namespace
 }  // namespace evidential_slam

@@ -39,4 +39,24 @@ double alongTrackLogPrior(const Pose2& previous, const Pose2& reached, const Pos
 Pose2 sampleMotion(const Pose2& previous, const Pose2& increment, const MotionModelConfig& config,
                    Rng* rng);
 
+// Odometry drift as a random walk: each part's variance grows linearly with the motion (per
+// radian turned, per metre driven), so a motion sampled in n steps spreads as much as in one, the
+// way wheel slip accumulates; sampleMotion's variances grow with the square of each step, so its
+// spread per metre shrinks with the update gate. Used to sample raw odometry (localization).
+struct OdometryDrift {
+  double rot_rot = 0.0;      // rad^2 of heading per rad turned
+  double rot_trans = 0.0;    // rad^2 of heading per m driven
+  double trans_trans = 0.0;  // m^2 along the track per m driven
+  double trans_rot = 0.0;    // m^2 along the track per rad turned
+  double min_sigma_xy = 0.0;
+  double min_sigma_theta = 0.0;
+};
+// The standard deviations of rot1, trans and rot2 for `increment` (rotate-translate-rotate):
+// rot_i: rot_rot |rot_i| + rot_trans |trans| / 2, trans: trans_trans |trans| + trans_rot (|rot1| +
+// |rot2|), each with its floor squared added.
+void driftSigmas(const Pose2& increment, const OdometryDrift& drift, double* sd_rot1,
+                 double* sd_trans, double* sd_rot2);
+Pose2 sampleDrift(const Pose2& previous, const Pose2& increment, const OdometryDrift& drift,
+                  Rng* rng);
+
 }  // namespace evidential_slam

@@ -296,13 +296,22 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   // must not count as support: never-observed ends weigh r then (docs/decisions.md).
   lookup_options.unobserved_collects = !config_.laser_unobserved_random_only && !searching_;
   const bool match_each = searching_ && !endpoints.empty();
+  // The proposal samples the raw odometry's drift (a random walk per metre and radian), not the
+  // SLAM's alpha_*, sized for samples after a scan match; the SLAM's floors stay.
+  OdometryDrift drift;
+  drift.rot_rot = config_.odom_drift_rot_rot;
+  drift.rot_trans = config_.odom_drift_rot_trans;
+  drift.trans_trans = config_.odom_drift_trans_trans;
+  drift.trans_rot = config_.odom_drift_trans_rot;
+  drift.min_sigma_xy = slam_.motion.min_sigma_xy;
+  drift.min_sigma_theta = slam_.motion.min_sigma_theta;
   const size_t n = particles_.size();
   std::vector<double> log_pl(n, 0.0), log_weight(n, 0.0);
   std::vector<char> on_map(n, 0);
   pool_->run(n, [&](size_t k, int) {
     Rng rng = Rng::forStream(slam_.seed, step, k);
-    Pose2 pose = moved ? sampleMotion(particles_[k].pose, increment, slam_.motion, &rng)
-                       : particles_[k].pose;
+    Pose2 pose =
+        moved ? sampleDrift(particles_[k].pose, increment, drift, &rng) : particles_[k].pose;
     if (match_each) pose = models.matcher.refine(map_, pose, endpoints);
     particles_[k].pose = pose;
     on_map[k] = onMappedFloor(pose) ? 1 : 0;

@@ -1,21 +1,21 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
-// only; each update samples the odometry motion model (the proposal, as amcl's; after a global
-// localization, until the cloud has narrowed to the scan matcher's search radius, each sample is
-// also scan-matched), weighs the samples on at most laser_max_beams hit beams by
-// laser_model_type's model: beam (the evidential forward model on a BeamLookup built once per map,
-// tempered like the SLAM's weights), beam_traced (the same model ray traced, BeamModel) or
-// likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 + Σ p^3), and never
-// writes the map. Every resample_interval updates (with selective_resampling, only when the
-// effective sample size has dropped below half) the particles are resampled with KLD-sampling,
-// which adapts their
-// number to the spread of the cloud between min_particles and max_particles; with
-// recovery_alpha_slow/_fast, random poses from the map's free space are added when the scans'
-// plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
-// heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly
-// of every processed scan at the estimate is accumulated against the map (anomaly.h): what
-// changed since the map was made. What that anomaly contradicts feeds the conflict alarm; when it
-// fires (the scans contradict the map far more than while the filter tracked), kidnap_recovery
-// spreads the particles over the free space again, as a global localization.
+// only; each update samples the odometry's drift (odom_drift_*, a random walk: sampleDrift) as the
+// proposal (amcl's scheme; after a global localization, until the cloud has narrowed to the scan
+// matcher's search radius, each sample is also scan-matched), weighs the samples on at most
+// laser_max_beams hit beams by laser_model_type's model: beam (the evidential forward model on a
+// BeamLookup built once per map, tempered like the SLAM's weights), beam_traced (the same model ray
+// traced, BeamModel) or likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 +
+// Σ p^3), and never writes the map. Every resample_interval updates (with selective_resampling,
+// only when the effective sample size has dropped below half) the particles are resampled with
+// KLD-sampling, which adapts their number to the spread of the cloud between min_particles and
+// max_particles; with recovery_alpha_slow/_fast, random poses from the map's free space are added
+// when the scans' plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and
+// covariance of the heaviest cluster of particles, its mean refined by one scan match
+// (scan_matching). The anomaly of every processed scan at the estimate is accumulated against the
+// map (anomaly.h): what changed since the map was made. What that anomaly contradicts feeds the
+// conflict alarm; when it fires (the scans contradict the map far more than while the filter
+// tracked), kidnap_recovery spreads the particles over the free space again, as a global
+// localization.
 #pragma once
 
 #include <cstdint>
@@ -80,10 +80,10 @@ struct LocalizerStats {
 
 class Localizer {
  public:
-  // `slam` gives the sensor, motion and matcher models, the likelihood temperature, the seed and
-  // the threads (its particle count and resolution are not used: the map has its own); `alarm`
-  // the conflict alarm kidnap_recovery listens to. Throws std::invalid_argument for an invalid
-  // configuration (check isValid first).
+  // `slam` gives the sensor and matcher models, the motion noise floors, the likelihood
+  // temperature, the seed and the threads (its particle count and resolution are not used: the map
+  // has its own); `alarm` the conflict alarm kidnap_recovery listens to. Throws
+  // std::invalid_argument for an invalid configuration (check isValid first).
   Localizer(const LocalizationConfig& config, const SlamConfig& slam,
             const ConflictAlarmConfig& alarm = ConflictAlarmConfig());
   ~Localizer();
