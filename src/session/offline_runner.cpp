@@ -4,7 +4,6 @@
 #include <malloc.h>
 #include <sys/resource.h>
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,10 +14,8 @@
 #include "evidential_slam/core/metrics.h"
 #include "evidential_slam/core/profile.h"
 #include "evidential_slam/io/atomic_files.h"
-#include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/ground_truth.h"
-#include "evidential_slam/io/parameter_file.h"
 #include "evidential_slam/io/progress.h"
 #include "evidential_slam/io/rawlog_reader.h"
 #include "evidential_slam/io/summary.h"
@@ -106,7 +103,7 @@ bool Run::startLocalization(MappingSession* session, const LoadedMap& loaded, st
   summary.x = start.pose.x;
   summary.y = start.pose.y;
   summary.theta = start.pose.theta;
-  summary.pose_from = start.global ? "--global"
+  summary.pose_from = start.global            ? "--global"
                       : opt_.has_initial_pose ? "--initial-pose"
                                               : "default (0, 0, 0)";
   summary_.start = summary;
@@ -472,16 +469,15 @@ int Run::execute() {
   summary_.peak_rss_mb = peakRssMb();
   if (profiler) {
     char line[160];
-    std::snprintf(line, sizeof(line),
-                  "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
-                  "update (floor replay included)\n",
-                  slam_cpu_s,
-                  1e3 * slam_cpu_s /
-                      std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
+    std::snprintf(
+        line, sizeof(line),
+        "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
+        "update (floor replay included)\n",
+        slam_cpu_s,
+        1e3 * slam_cpu_s / std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
     const std::string report = profiler->report() + line;
-    if (!outputs_.add(
-            (out_dir_ / "profile.txt").string(),
-            [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
+    if (!outputs_.add((out_dir_ / "profile.txt").string(),
+                      [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
       return fail(kExitBadInput, why);
     }
     summary_.outputs.push_back("profile.txt");
@@ -561,211 +557,6 @@ double peakRssMb() {
 
 std::string presetFile(const std::string& name) {
   return (fs::path(ES_CONFIG_DIR) / (name + ".yaml")).string();
-}
-
-std::string offlineUsage(const std::string& program) {
-  return "usage: " + program +
-         " --rawlog FILE --out DIR [--ground-truth GT.txt] [--config FILE]...\n"
-         "       [--preset NAME] [--param NAME=VALUE]... [--particles K] [--seed N]\n"
-         "       [--resolution M] [--threads N] [--first-scan N] [--max-scans N]\n"
-         "       [--load-map DIR|FILE] [--initial-pose X,Y,YAW] [--laser-label L] [--quiet]\n"
-         "       [--localize-only [--initial-cov XX,YY,AA | --global]]\n"
-         "       [--profile] [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
-         "\n"
-         "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
-         "Writes DIR/map.evmap (the lossless map, for --load-map), DIR/trajectory.tum,\n"
-         "DIR/conflict.csv, DIR/layers/ (every layer as PNG, NPY and map_server PGM + YAML)\n"
-         "and DIR/summary.json.\n"
-         "\n"
-         "  --rawlog FILE         input rawlog (.rawlog, gzip or plain)\n"
-         "  --out DIR             output directory (created)\n"
-         "  --ground-truth FILE   `t x y phi` per line; adds the ATE to summary.json\n"
-         "  --config FILE         parameter file (YAML `name: value`, as config/*.yaml and\n"
-         "                        rosparam); repeatable, later files win\n"
-         "  --preset NAME         the package's config/NAME.yaml, as --config\n"
-         "  --param NAME=VALUE    set a parameter by its name (README, Parameters) after the\n"
-         "                        config files; repeatable\n"
-         "  --particles K         = --param particles=K (default 100)\n"
-         "  --seed N              = --param seed=N (default 1)\n"
-         "  --resolution M        = --param resolution=M, metres per cell (default 0.05)\n"
-         "  --threads N           = --param threads=N, 0 = all cores (default 0)\n"
-         "  --first-scan N        pass over the log's first N scans (0 = start at the first)\n"
-         "  --max-scans N         stop after N scans (counted from --first-scan)\n"
-         "  --load-map PATH       continue mapping on a saved map: a map.evmap file or the\n"
-         "                        directory holding it (another run's --out, a node's save_map)\n"
-         "  --initial-pose X,Y,YAW  the first scan's pose in the map frame (m, m, rad); default\n"
-         "                        with --load-map: the pose saved in the map file\n"
-         "  --localize-only       localize on the --load-map map instead of mapping: the map\n"
-         "                        is not changed; writes DIR/localization.csv (the estimate\n"
-         "                        and its covariance per update) and layers/anomaly.* (what\n"
-         "                        contradicts the map); --initial-pose defaults to 0,0,0\n"
-         "  --initial-cov XX,YY,AA  with --localize-only: the variances (m^2, m^2, rad^2) of\n"
-         "                        the particles drawn around --initial-pose (default: the\n"
-         "                        initial_cov_* parameters)\n"
-         "  --global              with --localize-only: spread the particles over the map's\n"
-         "                        free space instead (global localization)\n"
-         "  --laser-label L       use only scans with this sensor label\n"
-         "  --quiet               no progress line and no warnings on stderr\n"
-         "  --profile             time the filter's update by section and measure its compute\n"
-         "                        floor (slower, more memory); report in DIR/profile.txt\n"
-         "  --export-octomap      = --param export_octomap=true: also write\n"
-         "                        DIR/octomap/map.{evidential.ot,bt,color.ot}\n"
-         "  --octomap-z-min Z     = --param octomap_z_min=Z (the voxel slab's lowest height)\n"
-         "  --octomap-z-max Z     = --param octomap_z_max=Z (its highest)\n"
-         "\n"
-         "Exit codes: 0 success (also a truncated log), 1 bad usage, parameters or parameter\n"
-         "files, 2 unusable input or unwritable output, 3 internal error.\n";
-}
-
-namespace {
-
-// "a,b,c": three finite numbers.
-bool parseTriple(const std::string& text, double v[3]) {
-  size_t start = 0;
-  for (int i = 0; i < 3; ++i) {
-    const size_t comma = i < 2 ? text.find(',', start) : text.size();
-    if (comma == std::string::npos) return false;
-    if (!parseNumber(text.substr(start, comma - start), &v[i]) || !std::isfinite(v[i])) {
-      return false;
-    }
-    start = comma + 1;
-  }
-  return true;
-}
-
-bool parsePose(const std::string& text, Pose2* pose) {
-  double v[3];
-  if (!parseTriple(text, v)) return false;
-  *pose = Pose2(v[0], v[1], v[2]);
-  return true;
-}
-
-}  // namespace
-
-bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, bool* help,
-                      std::string* error) {
-  *help = false;
-  auto bad = [&](const std::string& why) {
-    if (error) *error = why;
-    return false;
-  };
-  // Options that stand for one parameter.
-  static const std::pair<const char*, const char*> kShorthands[] = {
-      {"--particles", "particles"},         {"--seed", "seed"},
-      {"--resolution", "resolution"},       {"--threads", "threads"},
-      {"--octomap-z-min", "octomap_z_min"}, {"--octomap-z-max", "octomap_z_max"}};
-  static const char* const kValued[] = {
-      "--rawlog",    "--out",         "--ground-truth", "--config",     "--preset",     "--param",
-      "--max-scans", "--laser-label", "--first-scan",   "--load-map",   "--initial-pose",
-      "--initial-cov"};
-  for (size_t i = 0; i < args.size(); ++i) {
-    const CommandLineArg arg = splitArg(args[i]);
-    const std::string& flag = arg.flag;
-    std::string value = arg.value;
-    if (flag == "-h" || flag == "--help") {
-      *help = true;
-      return true;
-    }
-    if (flag == "--quiet" || flag == "-q" || flag == "--export-octomap" || flag == "--profile" ||
-        flag == "--localize-only" || flag == "--global") {
-      if (arg.has_value) return bad(flag + " takes no value");
-      if (flag == "--localize-only") {
-        o->localize_only = true;
-      } else if (flag == "--global") {
-        o->global_localization = true;
-      } else if (flag == "--export-octomap") {
-        o->parameters.emplace_back("export_octomap", "true");
-      } else if (flag == "--profile") {
-        o->profile = true;
-      } else {
-        o->quiet = true;
-      }
-      continue;
-    }
-    const char* shorthand = nullptr;
-    for (const auto& [option, name] : kShorthands) {
-      if (flag == option) shorthand = name;
-    }
-    bool known = shorthand != nullptr;
-    for (const char* k : kValued) known = known || flag == k;
-    if (!known) return bad("unknown option '" + args[i] + "'");
-    if (!arg.has_value) {
-      if (i + 1 >= args.size()) return bad(flag + " needs a value");
-      value = args[++i];
-    }
-    if (shorthand != nullptr) {
-      o->parameters.emplace_back(shorthand, value);
-    } else if (flag == "--rawlog") {
-      o->rawlog = value;
-    } else if (flag == "--out") {
-      o->out_dir = value;
-    } else if (flag == "--ground-truth") {
-      o->ground_truth = value;
-    } else if (flag == "--laser-label") {
-      o->laser_label = value;
-    } else if (flag == "--config") {
-      o->config_files.push_back(value);
-    } else if (flag == "--preset") {
-      if (value.empty() || value.find('/') != std::string::npos) {
-        return bad("--preset wants the name of a file in config/ (e.g. sim)");
-      }
-      o->config_files.push_back(presetFile(value));
-    } else if (flag == "--max-scans") {
-      uint64_t n = 0;
-      if (!parseNumber(value, &n) || n == 0) return bad("--max-scans wants an integer >= 1");
-      o->max_scans = n;
-    } else if (flag == "--first-scan") {
-      uint64_t n = 0;
-      if (!parseNumber(value, &n)) return bad("--first-scan wants an integer >= 0");
-      o->first_scan = n;
-    } else if (flag == "--load-map") {
-      if (value.empty()) return bad("--load-map wants a map file or a directory");
-      o->load_map = value;
-    } else if (flag == "--initial-pose") {
-      if (!parsePose(value, &o->initial_pose)) {
-        return bad("--initial-pose wants X,Y,YAW (three finite numbers: m, m, rad)");
-      }
-      o->has_initial_pose = true;
-    } else if (flag == "--initial-cov") {
-      double* v = o->initial_covariance;
-      if (!parseTriple(value, v) || v[0] < 0.0 || v[1] < 0.0 || v[2] < 0.0) {
-        return bad("--initial-cov wants XX,YY,AA (three variances >= 0: m^2, m^2, rad^2)");
-      }
-      o->has_initial_covariance = true;
-    } else if (flag == "--param") {
-      const size_t eq = value.find('=');
-      if (eq == std::string::npos || eq == 0) return bad("--param wants NAME=VALUE");
-      o->parameters.emplace_back(value.substr(0, eq), value.substr(eq + 1));
-    }
-  }
-  for (const std::string& file : o->config_files) {
-    std::vector<std::pair<std::string, std::string>> entries;
-    std::string why;
-    if (!readParameterFile(file, &entries, &why) ||
-        !applyParameterEntries(entries, file, &o->params, &o->ignored, &why)) {
-      return bad(why);
-    }
-  }
-  for (const auto& [name, text] : o->parameters) {
-    std::string why;
-    if (!setParameter(name, text, &o->params, &why)) return bad(why);
-  }
-  if (o->rawlog.empty()) return bad("--rawlog is required");
-  if (o->out_dir.empty()) return bad("--out is required");
-  if (o->localize_only && o->load_map.empty()) {
-    return bad("--localize-only needs --load-map (the map to localize on)");
-  }
-  if (!o->localize_only && (o->global_localization || o->has_initial_covariance)) {
-    return bad(std::string(o->global_localization ? "--global" : "--initial-cov") +
-               " needs --localize-only");
-  }
-  if (o->global_localization && (o->has_initial_pose || o->has_initial_covariance)) {
-    return bad("--global spreads the particles over the map: not with --initial-pose or "
-               "--initial-cov");
-  }
-  std::string why;
-  if (!o->params.isValid(&why)) return bad("invalid parameters: " + why);
-  return true;
 }
 
 int runOffline(const OfflineOptions& options, std::FILE* out, std::FILE* err, bool err_is_tty) {
