@@ -21,8 +21,8 @@
 namespace {
 
 bool setAnyParameter(const std::string& name, const std::string& value,
-                     evidential_slam::Parameters* slam,
-                     evidential_slam::io::ExplorationRunConfig* c, std::string* why) {
+                     evidential_slam::Parameters* slam, evidential_slam::io::ExplorationRunConfig* c,
+                     std::string* why) {
   namespace es = evidential_slam;
   std::string ignored;
   if (es::exploration::setExplorerParameter(name, value, &c->explorer, &ignored)) return true;
@@ -33,14 +33,10 @@ bool setAnyParameter(const std::string& name, const std::string& value,
       std::visit(
           [&](auto* v) {
             using T = std::decay_t<decltype(*v)>;
-            if constexpr (std::is_same_v<T, std::string>)
-              *v = value;
-            else if constexpr (std::is_same_v<T, bool>)
-              *v = value == "true";
-            else if constexpr (std::is_same_v<T, int>)
-              *v = std::stoi(value);
-            else
-              *v = std::stod(value);
+            if constexpr (std::is_same_v<T, std::string>) *v = value;
+            else if constexpr (std::is_same_v<T, bool>) *v = value == "true";
+            else if constexpr (std::is_same_v<T, int>) *v = std::stoi(value);
+            else *v = std::stod(value);
           },
           field.value);
     } catch (const std::exception&) {
@@ -152,11 +148,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", why.c_str());
     return 1;
   }
-  std::printf(
-      "%s: coverage %.4f (%.4f beyond the %.3f m gap band) after %.1f m in %.1f s "
-      "simulated, %llu collision(s), to 90 %%: %.0f s; %s\n",
-      c.explorer.frontiers.strategy.c_str(), r.final_coverage, r.final_coverage_beyond_gap,
-      r.gap_band_m, r.distance_m, r.sim_time_s, static_cast<unsigned long long>(r.collisions),
-      r.time_to_90_s, r.stop_reason.c_str());
+  std::printf("%s: coverage %.4f (%.4f beyond the %.3f m gap band) after %.1f m in %.1f s "
+              "simulated, %llu collision(s), to 90 %%: %.0f s; %s\n",
+              c.explorer.frontiers.strategy.c_str(), r.final_coverage,
+              r.final_coverage_beyond_gap, r.gap_band_m, r.distance_m, r.sim_time_s,
+              static_cast<unsigned long long>(r.collisions), r.time_to_90_s,
+              r.stop_reason.c_str());
   return 0;
 }

@@ -38,7 +38,7 @@ std::string numberText(double v) {
 
 CommandLine::CommandLine(const std::string& description, const std::string& footer) {
   app_.description(description);
-  app_.footer(footer);
+  if (!footer.empty()) app_.footer(footer);
   app_.formatter(std::make_shared<Formatter>());
   app_.get_formatter()->column_width(24);
   app_.set_help_flag("-h,--help", "this text");

@@ -40,12 +40,13 @@ struct Fixture {
 TEST(CommandLine, CallbacksRunInCommandLineOrder) {
   Fixture f;
   std::string error;
-  ASSERT_TRUE(f.parse({"--param", "a=1", "--name", "x", "--count=3", "-q", "--param=b=2",
-                       "--name", "-y", "--count", "4"},
+  ASSERT_TRUE(f.parse({"--param", "a=1", "--name", "x", "--count=3", "-q", "--param=b=2", "--name",
+                       "-y", "--count", "4"},
                       &error))
       << error;
   EXPECT_EQ(f.log, (std::vector<std::string>{"name x", "count 3", "quiet", "name -y", "count 4"}));
-  EXPECT_EQ(f.params, (ParameterAssignments{{"a", "1"}, {"name", "x"}, {"b", "2"}, {"name", "-y"}}));
+  EXPECT_EQ(f.params,
+            (ParameterAssignments{{"a", "1"}, {"name", "x"}, {"b", "2"}, {"name", "-y"}}));
 }
 
 TEST(CommandLine, BadUsageIsOneLineNamingTheOption) {
@@ -88,9 +89,9 @@ TEST(CommandLine, HelpWinsAndListsTheOptions) {
   EXPECT_TRUE(help);
   f.cl.appendHelp("\nAppended.\n");
   const std::string text = f.cl.help();
-  for (const char* part : {"usage: prog [options]\nWhat prog does.", "\n  -q,--quiet ",
-                           "\n  --count N ", "how many", "\n  --param NAME=VALUE ",
-                           "Exit codes: 0 fine.", "\nAppended.\n"}) {
+  for (const char* part :
+       {"usage: prog [options]\nWhat prog does.", "\n  -q,--quiet ", "\n  --count N ", "how many",
+        "\n  --param NAME=VALUE ", "Exit codes: 0 fine.", "\nAppended.\n"}) {
     EXPECT_NE(text.find(part), std::string::npos) << part << " in:\n" << text;
   }
 }
@@ -107,14 +108,24 @@ TEST(CommandLine, ParameterHelpListsEveryParameterOnce) {
     const size_t at = text.find(line);
     ASSERT_NE(at, std::string::npos) << specs[i].name;
     EXPECT_EQ(text.find(line, at + 1), std::string::npos) << specs[i].name << " twice";
-    EXPECT_EQ(text.compare(at + line.size(), defaults[i].second.size(), defaults[i].second), 0)
-        << specs[i].name;
+    // The default as shown: the same number (whole ones without an exponent) or text.
+    const size_t begin = at + line.size();
+    const std::string shown = text.substr(begin, text.find_first_of(" \n", begin) - begin);
+    double shown_number = 0.0, number = 0.0;
+    if (parseNumber(defaults[i].second, &number)) {
+      ASSERT_TRUE(parseNumber(shown, &shown_number)) << specs[i].name << ": " << shown;
+      EXPECT_EQ(shown_number, number) << specs[i].name;
+    } else {
+      EXPECT_EQ(shown, defaults[i].second.empty() ? "\"\"" : defaults[i].second) << specs[i].name;
+    }
   }
   EXPECT_NE(text.find("\n  particles = 100  (int, 1 to 10000)  Number of particles K"),
             std::string::npos)
       << text;
   EXPECT_NE(text.find("\n  resolution = 0.05 m  (double, 0.005 to 2)  Map cell size"),
             std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\n  usable_range = 20 m  (double, 0.1 to 200)  "), std::string::npos)
       << text;
 }
 

@@ -328,13 +328,11 @@ TEST(OfflineArgs, UnknownOptionAndBadValueNameTheOption) {
   EXPECT_EQ(error, "--rawlog is required");
 }
 
-// --help lists every parameter --param and --config take, once, at its default.
+// --help lists every parameter --param and --config take, once.
 TEST(OfflineArgs, HelpListsEveryParameter) {
   const std::string usage = offlineUsage("prog");
-  const auto defaults = parameterValues(Parameters());
-  for (const auto& [name, value] : defaults) {
-    const std::string line = "\n  " + name + " = " + value;
-    const size_t at = usage.find(line);
+  for (const auto& [name, value] : parameterValues(Parameters())) {
+    const size_t at = usage.find("\n  " + name + " = ");
     EXPECT_NE(at, std::string::npos) << name;
     EXPECT_EQ(usage.find("\n  " + name + " = ", at + 1), std::string::npos) << name;
   }
