@@ -170,7 +170,6 @@ std::unique_ptr<CommandLine> simulateCommandLine(const std::string& program, Sim
              [o](const std::string& v) { o->truth_scans = v; })
       ->group(other);
   cl->flag("-q,--quiet", "no summary", [o] { o->quiet = true; })->group(other);
-  cl->app().get_help_ptr()->group(other);
   // Every GridmapSimulatorConfig field: --name ('_' written '-'), its help and default.
   const std::vector<GridmapSimulatorField> fields = gridmapSimulatorFields(&o->config);
   GridmapSimulatorConfig defaults_config;
