@@ -104,8 +104,24 @@ bool CommandLine::parse(const std::vector<std::string>& args, bool* help, std::s
     if (first.empty() || first[0] != '-') return "unexpected argument '" + first + "'";
     return withOption(unknown_option_, first);
   };
-  // CLI11 takes the arguments last first.
-  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  // CLI11 takes the arguments last first. `--name=` gives an option an empty value, as before
+  // (CLI11 would take the next argument instead).
+  std::vector<std::string> reversed;
+  for (auto arg = args.rbegin(); arg != args.rend(); ++arg) {
+    const CLI::Option* o = nullptr;
+    if (arg->size() > 3 && arg->compare(0, 2, "--") == 0 && arg->find('=') == arg->size() - 1) {
+      o = app_.get_option_no_throw(arg->substr(0, arg->size() - 1));
+    }
+    if (o != nullptr && o->get_items_expected_max() == 0) {
+      return bad(o->get_name() + " takes no value");
+    }
+    if (o != nullptr) {
+      reversed.emplace_back();
+      reversed.push_back(arg->substr(0, arg->size() - 1));
+    } else {
+      reversed.push_back(*arg);
+    }
+  }
   try {
     app_.parse(reversed);
   } catch (const CLI::CallForHelp&) {

@@ -49,6 +49,20 @@ TEST(CommandLine, CallbacksRunInCommandLineOrder) {
             (ParameterAssignments{{"a", "1"}, {"name", "x"}, {"b", "2"}, {"name", "-y"}}));
 }
 
+// `--name=` is an empty value, not a request for the next argument.
+TEST(CommandLine, AnEmptyValueAfterTheEqualsSign) {
+  Fixture f;
+  std::string error;
+  ASSERT_TRUE(f.parse({"--name=", "--count", "2"}, &error)) << error;
+  EXPECT_EQ(f.log, (std::vector<std::string>{"name ", "count 2"}));
+  Fixture g;
+  EXPECT_FALSE(g.parse({"--count="}, &error));
+  EXPECT_EQ(error, "--count wants an integer >= 1");
+  Fixture h;
+  EXPECT_FALSE(h.parse({"--quiet="}, &error));
+  EXPECT_EQ(error, "--quiet takes no value");
+}
+
 TEST(CommandLine, BadUsageIsOneLineNamingTheOption) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--bogus"}, "unknown option '--bogus'"},
