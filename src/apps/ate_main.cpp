@@ -26,16 +26,7 @@ int main(int argc, char** argv) {
   cl.positional("GROUND_TRUTH", "the truth (`t x y phi` per line)", &truth_path, true);
   cl.positional("max_dt_s", "the largest time gap (s) of a matched pair (default 0.05)",
                 &max_dt_text, false);
-  bool help = false;
-  std::string error;
-  if (argc > 0 && !cl.parse(std::vector<std::string>(argv + 1, argv + argc), &help, &error)) {
-    std::fprintf(stderr, "error: %s (see --help)\n", error.c_str());
-    return 1;
-  }
-  if (help) {
-    std::fputs(cl.help().c_str(), stdout);
-    return 0;
-  }
+  if (const int code = cl.parseMain(argc, argv, 1); code >= 0) return code;
   double max_dt = 0.05;
   if (!max_dt_text.empty() &&
       (!es::io::parseNumber(max_dt_text, &max_dt) || !(max_dt > 0.0 && std::isfinite(max_dt)))) {
@@ -44,6 +35,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::vector<es::StampedPose> estimate, truth;
+  std::string error;
   if (!es::io::readTumTrajectory(trajectory_path, &estimate, &error) ||
       !es::io::readGroundTruth(truth_path, &truth, &error)) {
     std::fprintf(stderr, "error: %s\n", error.c_str());

@@ -37,16 +37,7 @@ int run(int argc, char** argv) {
             "layers/ (the occupied/free/unknown/conflict/anomaly .npy\n"
             "files); exit 3 on any difference",
             [&](const std::string& v) { layers_dir = v; });
-  bool help = false;
-  std::string why;
-  if (argc > 0 && !cl.parse(std::vector<std::string>(argv + 1, argv + argc), &help, &why)) {
-    std::fprintf(stderr, "error: %s (see --help)\n", why.c_str());
-    return 1;
-  }
-  if (help) {
-    std::fputs(cl.help().c_str(), stdout);
-    return 0;
-  }
+  if (const int code = cl.parseMain(argc, argv, 1); code >= 0) return code;
   if (path.empty()) {
     std::fprintf(stderr, "error: FILE is required (see --help)\n");
     return 1;

@@ -110,15 +110,7 @@ int main(int argc, char** argv) {
       es::exploration::explorerParameterSpecs(),
       es::exploration::explorerParameterValues(explorer_defaults)));
   cl.appendHelp(es::io::sharedParameterHelp("SLAM parameters (--param, --config):"));
-  bool help = false;
-  if (!cl.parse(std::vector<std::string>(argv + 1, argv + argc), &help, &why)) {
-    std::fprintf(stderr, "error: %s (see --help)\n", why.c_str());
-    return 2;
-  }
-  if (help) {
-    std::fputs(cl.help().c_str(), stdout);
-    return 0;
-  }
+  if (const int code = cl.parseMain(argc, argv, 2); code >= 0) return code;
   if (!config_error.empty()) {
     std::fprintf(stderr, "error: %s\n", config_error.c_str());
     return 2;

@@ -146,6 +146,20 @@ bool CommandLine::parse(const std::vector<std::string>& args, bool* help, std::s
 
 std::string CommandLine::help() const { return app_.help() + extra_help_; }
 
+int CommandLine::parseMain(int argc, char** argv, int usage_exit) {
+  bool asked = false;
+  std::string error;
+  if (!parse(std::vector<std::string>(argv + (argc > 0 ? 1 : 0), argv + argc), &asked, &error)) {
+    std::fprintf(stderr, "error: %s (see --help)\n", error.c_str());
+    return usage_exit;
+  }
+  if (asked) {
+    std::fputs(help().c_str(), stdout);
+    return 0;
+  }
+  return -1;
+}
+
 std::string parameterHelp(const std::string& title, const std::vector<ParameterSpec>& specs,
                           const std::vector<std::pair<std::string, std::string>>& defaults) {
   std::ostringstream out;

@@ -84,6 +84,10 @@ class CommandLine {
   // `help` is set (and true returned) for -h/--help, whatever else is given.
   bool parse(const std::vector<std::string>& args, bool* help, std::string* error);
   std::string help() const;
+  // For main(): parses argv; on -h/--help prints the help to stdout and returns 0, on bad usage
+  // prints "error: ... (see --help)" to stderr and returns `usage_exit`; -1 when the program
+  // should run.
+  int parseMain(int argc, char** argv, int usage_exit);
 
   CLI::App& app() { return app_; }
 
