@@ -9,7 +9,9 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
 
+#include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/evidential_octree.h"
 #include "evidential_slam/io/octomap_info.h"
@@ -18,40 +20,28 @@ namespace {
 
 namespace es = evidential_slam;
 
-int usage(const char* program, std::FILE* to, int code) {
-  std::fprintf(
-      to,
-      "usage: %s FILE.ot [--compare-layers DIR]\n"
-      "\n"
-      "Reads an EvidentialOcTree file (evidential_slam's <name>.evidential.ot) and prints\n"
-      "its resolution, bounds, node count and statistics of every layer over its voxels\n"
-      "(the anomaly only in files that hold it: layout 2, id EvidentialAnomalyOcTree).\n"
-      "  --compare-layers DIR   compare each voxel's masses (and anomaly) with a run's\n"
-      "                         layers/ (the occupied/free/unknown/conflict/anomaly .npy\n"
-      "                         files); exit 3 on any difference\n",
-      program);
-  return code;
-}
-
 int run(int argc, char** argv) {
-  const char* program = argc > 0 ? argv[0] : "evidential_octomap_info";
+  const std::string program = argc > 0 ? argv[0] : "evidential_octomap_info";
   std::string path, layers_dir;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") return usage(program, stdout, 0);
-    if (arg == "--compare-layers") {
-      if (i + 1 >= argc) return usage(program, stderr, 1);
-      layers_dir = argv[++i];
-    } else if (!arg.empty() && arg[0] == '-') {
-      std::fprintf(stderr, "error: unknown option '%s'\n", arg.c_str());
-      return usage(program, stderr, 1);
-    } else if (path.empty()) {
-      path = arg;
-    } else {
-      return usage(program, stderr, 1);
-    }
+  es::io::CommandLine cl(
+      "usage: " + program +
+          " FILE.ot [--compare-layers DIR]\n"
+          "\n"
+          "Reads an EvidentialOcTree file (evidential_slam's <name>.evidential.ot) and prints\n"
+          "its resolution, bounds, node count and statistics of every layer over its voxels\n"
+          "(the anomaly only in files that hold it: layout 2, id EvidentialAnomalyOcTree).",
+      "Exit codes: 0 success, 1 bad usage, 2 unreadable file or layers, 3 the masses differ.");
+  cl.positional("FILE", "the .evidential.ot file", &path, true);
+  cl.option("--compare-layers", "DIR",
+            "compare each voxel's masses (and anomaly) with a run's\n"
+            "layers/ (the occupied/free/unknown/conflict/anomaly .npy\n"
+            "files); exit 3 on any difference",
+            [&](const std::string& v) { layers_dir = v; });
+  if (const int code = cl.parseMain(argc, argv, 1); code >= 0) return code;
+  if (path.empty()) {
+    std::fprintf(stderr, "error: FILE is required (see --help)\n");
+    return 1;
   }
-  if (path.empty()) return usage(program, stderr, 1);
 
   std::unique_ptr<es::io::EvidentialOcTree> tree;
   std::string error;

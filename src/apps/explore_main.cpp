@@ -2,6 +2,7 @@
 // simulator driven by the explorer, mapped by the SLAM engine), written as <out>/exploration.json
 // — the file explore.launch writes. scripts/benchmark-exploration runs it over worlds, strategies
 // and seeds.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -12,23 +13,12 @@
 
 #include "evidential_slam/core/exploration/parameters.h"
 #include "evidential_slam/core/parameters.h"
+#include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/exploration_run.h"
 #include "evidential_slam/io/gridmap_simulator.h"
 #include "evidential_slam/io/parameter_file.h"
 
 namespace {
-
-const char kUsage[] =
-    "usage: %s --map PNG --out DIR [options]\n"
-    "  --map PNG            the world (dark = obstacle) or a map_server .yaml\n"
-    "  --resolution M       m per pixel (default 0.05)\n"
-    "  --start X,Y,YAW      start pose in the image's frame, centred (default 0,0,0)\n"
-    "  --strategy NAME      ns, entropy or frontier (default ns)\n"
-    "  --seed N             simulator and SLAM seed (default 1)\n"
-    "  --max-time S         simulated s at most (default 600)\n"
-    "  --config FILE        SLAM parameter file (e.g. config/sim.yaml)\n"
-    "  --param NAME=VALUE   a SLAM, explorer or simulator parameter (repeatable)\n"
-    "  --out DIR            where exploration.json goes (created)\n";
 
 bool setAnyParameter(const std::string& name, const std::string& value,
                      evidential_slam::Parameters* slam, evidential_slam::io::ExplorationRunConfig* c,
@@ -63,60 +53,67 @@ bool setAnyParameter(const std::string& name, const std::string& value,
 
 int main(int argc, char** argv) {
   namespace es = evidential_slam;
+  using es::io::UsageError;
   es::io::ExplorationRunConfig c;
   es::Parameters slam;
-  std::string out, why;
-  std::vector<std::pair<std::string, std::string>> params;
+  std::string out, why, config_error;
+  es::io::ParameterAssignments params;
   double start[3] = {0.0, 0.0, 0.0};
   c.simulator.resolution = 0.05;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::printf(kUsage, argv[0]);
-      return 0;
-    }
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "error: %s wants a value (see --help)\n", a.c_str());
-      return 2;
-    }
-    const std::string v = argv[++i];
-    try {
-      if (a == "--map") {
-        c.simulator.map = v;
-      } else if (a == "--resolution") {
-        c.simulator.resolution = std::stod(v);
-      } else if (a == "--start") {
-        if (std::sscanf(v.c_str(), "%lf,%lf,%lf", &start[0], &start[1], &start[2]) != 3) {
-          throw std::invalid_argument(v);
-        }
-      } else if (a == "--strategy") {
-        params.emplace_back("strategy", v);
-      } else if (a == "--seed") {
-        params.emplace_back("seed", v);
-        c.simulator.seed = std::stoi(v);
-      } else if (a == "--max-time") {
-        c.max_time = std::stod(v);
-      } else if (a == "--config") {
-        std::vector<std::pair<std::string, std::string>> entries;
-        if (!es::io::readParameterFile(v, &entries, &why)) {
-          std::fprintf(stderr, "error: %s\n", why.c_str());
-          return 2;
-        }
-        params.insert(params.end(), entries.begin(), entries.end());
-      } else if (a == "--param") {
-        const size_t eq = v.find('=');
-        if (eq == std::string::npos) throw std::invalid_argument(v);
-        params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
-      } else if (a == "--out") {
-        out = v;
-      } else {
-        std::fprintf(stderr, "error: unknown option %s (see --help)\n", a.c_str());
-        return 2;
+  auto number = [](const char* option, auto* to) {
+    return [option, to](const std::string& v) {
+      if (!es::io::parseNumber(v, to)) {
+        throw UsageError("bad value '" + v + "' for " + option);
       }
-    } catch (const std::exception&) {
-      std::fprintf(stderr, "error: bad value '%s' for %s (see --help)\n", v.c_str(), a.c_str());
-      return 2;
-    }
+    };
+  };
+  es::io::CommandLine cl(std::string("usage: ") + argv[0] + " --map PNG --out DIR [options]", "");
+  cl.setMessages("unknown option %s", "%s wants a value");
+  cl.option("--map", "PNG", "the world (dark = obstacle) or a map_server .yaml",
+            [&](const std::string& v) { c.simulator.map = v; });
+  cl.option("--resolution", "M", "m per pixel (default 0.05)",
+            number("--resolution", &c.simulator.resolution));
+  cl.option("--start", "X,Y,YAW", "start pose in the image's frame, centred (default 0,0,0)",
+            [&](const std::string& v) {
+              std::vector<double> p;
+              if (!es::io::parseNumberList(v, 3, 3, &p)) {
+                throw UsageError("bad value '" + v + "' for --start");
+              }
+              std::copy(p.begin(), p.end(), start);
+            });
+  cl.option("--strategy", "NAME", "ns, entropy or frontier (default ns)",
+            [&](const std::string& v) { params.emplace_back("strategy", v); });
+  cl.option("--seed", "N", "simulator and SLAM seed (default 1)", [&](const std::string& v) {
+    number("--seed", &c.simulator.seed)(v);
+    params.emplace_back("seed", v);
+  });
+  cl.option("--max-time", "S", "simulated s at most (default 600)",
+            number("--max-time", &c.max_time));
+  // A parameter file's entries join the --param list where the file stands.
+  cl.option("--config", "FILE", "SLAM parameter file (e.g. config/sim.yaml)",
+            [&](const std::string& v) {
+              std::vector<std::pair<std::string, std::string>> entries;
+              if (!es::io::readParameterFile(v, &entries, &why)) {
+                if (config_error.empty()) config_error = why;
+                return;
+              }
+              params.insert(params.end(), entries.begin(), entries.end());
+            });
+  cl.param(&params,
+           "a SLAM, explorer or simulator parameter (repeatable; below,\n"
+           "and evidential_slam_simulate --help for the simulator's)");
+  cl.option("--out", "DIR", "where exploration.json goes (created)",
+            [&](const std::string& v) { out = v; });
+  es::exploration::ExplorerConfig explorer_defaults;
+  cl.appendHelp(es::io::parameterHelp(
+      "Explorer parameters (--param NAME=VALUE; the default and unit, the type and range):",
+      es::exploration::explorerParameterSpecs(),
+      es::exploration::explorerParameterValues(explorer_defaults)));
+  cl.appendHelp(es::io::sharedParameterHelp("SLAM parameters (--param, --config):"));
+  if (const int code = cl.parseMain(argc, argv, 2); code >= 0) return code;
+  if (!config_error.empty()) {
+    std::fprintf(stderr, "error: %s\n", config_error.c_str());
+    return 2;
   }
   if (c.simulator.map.empty() || out.empty()) {
     std::fprintf(stderr, "error: --map and --out are required (see --help)\n");

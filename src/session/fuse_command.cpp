@@ -14,9 +14,7 @@
 #include "evidential_slam/core/fusion/alignment.h"
 #include "evidential_slam/core/fusion/map_fusion.h"
 #include "evidential_slam/core/fusion/map_score.h"
-#include "evidential_slam/core/parameter_rows.h"
 #include "evidential_slam/io/build_info.h"
-#include "evidential_slam/io/command_line.h"
 #include "evidential_slam/io/error_text.h"
 #include "evidential_slam/io/map_file.h"
 #include "evidential_slam/io/map_input.h"
@@ -33,29 +31,6 @@ using Json = nlohmann::ordered_json;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// "x,y,yaw" (m, m, rad).
-bool parsePose(const std::string& text, Pose2* pose) {
-  double v[3];
-  size_t start = 0;
-  for (int i = 0; i < 3; ++i) {
-    const size_t comma = text.find(',', start);
-    if ((i < 2) != (comma != std::string::npos)) return false;
-    const std::string part = text.substr(start, i < 2 ? comma - start : std::string::npos);
-    if (!parseNumber(part, &v[i]) || !std::isfinite(v[i])) return false;
-    start = comma + 1;
-  }
-  *pose = Pose2(v[0], v[1], v[2]);
-  return true;
-}
-
-bool isSessionParameter(const std::string& name) {
-  bool found = false;
-  SessionConfig s;
-  auto visit = [&](const ParameterSpec& spec, auto&) { found = found || name == spec.name; };
-  ES_SESSION_PARAMETERS(ES_VISIT_PARAMETER, s)
-  return found;
 }
 
 Json poseJson(const Pose2& p) { return Json{{"x", p.x}, {"y", p.y}, {"yaw", p.theta}}; }
@@ -136,177 +111,6 @@ bool looksLikeImage(const std::string& path) {
 }
 
 }  // namespace
-
-std::string fuseUsage(const std::string& program) {
-  std::ostringstream u;
-  u << "usage: " << program
-    << " --map A --map B [--map C ...] [--pose x,y,yaw ... | --estimate\n"
-       "       | --initial-guess x,y,yaw[,sigma] ...]\n"
-       "       --rule cautious|dempster|conjunctive|yager|disjunctive [--discount a ...]\n"
-       "       --out DIR [options]\n"
-       "Fuses evidential maps cell by cell and writes the fused map's files into DIR, as a SLAM\n"
-       "run does (layers/, map.evmap, octomap/ with --export-octomap), plus fusion.json.\n"
-       "  --map PATH            a map file (map.evmap) or a SLAM run's output directory; the\n"
-       "                        first map's frame is the fused map's\n"
-       "  --pose x,y,yaw        pose (m, m, rad) of the next map after the first in the first\n"
-       "                        map's frame: one per map after the first\n"
-       "  --estimate            estimate those poses instead: each map aligned on the first\n"
-       "                        (refused when no pose explains the overlap, or when neither\n"
-       "                        the score nor the conflict tells the candidates apart)\n"
-       "  --initial-guess x,y,yaw[,sigma]  a guess of the next map's pose (as --pose; sigma m,\n"
-       "                        default 1): the estimate lies within 3 sigma and 30 degrees of\n"
-       "                        it; one per map after the first; implies --estimate\n"
-       "                        (neither: the maps share a frame)\n"
-       "  --rule NAME           combination rule: cautious (maps that may share evidence),\n"
-       "                        conjunctive, dempster, yager (independent maps), disjunctive\n"
-       "  --discount a          Shafer discount rate in [0, 1] (0: fully reliable): once for\n"
-       "                        every map, or once per map in --map order\n"
-       "  --out DIR             output directory (created)\n"
-       "  --export-octomap      also write DIR/octomap/ (as --param export_octomap=true)\n"
-       "  --param NAME=VALUE    a parameter of the map files (occupied_thresh, free_thresh,\n"
-       "                        export_octomap, octomap_z_min, octomap_z_max)\n"
-       "  --ground-truth PATH   score every map and the fused one against an occupancy image\n"
-       "                        (black occupied, white free, centred on the origin) or a map\n"
-       "  --ground-truth-resolution M   the image's metres per pixel (default 0.05)\n"
-       "  --ground-truth-pose x,y,yaw   the fused map's frame in the truth's frame\n"
-       "  --quiet               no summary on stdout\n"
-       "Exit codes: 0 success, 1 bad usage, 2 unusable input (a map that cannot be read,\n"
-       "resolutions that differ, an alignment refused) or unwritable output, 3 internal error.\n";
-  return u.str();
-}
-
-bool parseFuseArgs(const std::vector<std::string>& args, FuseOptions* o, bool* help,
-                   std::string* error) {
-  *help = false;
-  auto bad = [&](const std::string& why) {
-    if (error != nullptr) *error = why;
-    return false;
-  };
-  static const char* const kValued[] = {"--map",
-                                        "--pose",
-                                        "--initial-guess",
-                                        "--rule",
-                                        "--discount",
-                                        "--out",
-                                        "--param",
-                                        "--ground-truth",
-                                        "--ground-truth-resolution",
-                                        "--ground-truth-pose"};
-  Parameters params;
-  std::vector<std::pair<std::string, std::string>> parameters;
-  bool ground_truth_pose_given = false, ground_truth_resolution_given = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const CommandLineArg arg = splitArg(args[i]);
-    const std::string& flag = arg.flag;
-    std::string value = arg.value;
-    if (flag == "-h" || flag == "--help") {
-      *help = true;
-      return true;
-    }
-    if (flag == "--estimate" || flag == "--quiet" || flag == "-q" || flag == "--export-octomap") {
-      if (arg.has_value) return bad(flag + " takes no value");
-      if (flag == "--estimate") {
-        o->estimate = true;
-      } else if (flag == "--export-octomap") {
-        parameters.emplace_back("export_octomap", "true");
-      } else {
-        o->quiet = true;
-      }
-      continue;
-    }
-    bool known = false;
-    for (const char* k : kValued) known = known || flag == k;
-    if (!known) return bad("unknown option '" + args[i] + "'");
-    if (!arg.has_value) {
-      if (i + 1 >= args.size()) return bad(flag + " needs a value");
-      value = args[++i];
-    }
-    if (flag == "--map") {
-      if (value.empty()) return bad("--map wants a path");
-      o->maps.push_back(value);
-    } else if (flag == "--pose") {
-      Pose2 pose;
-      if (!parsePose(value, &pose)) {
-        return bad("--pose wants x,y,yaw (m, m, rad), not '" + value + "'");
-      }
-      o->poses.push_back(pose);
-    } else if (flag == "--initial-guess") {
-      std::vector<double> v;
-      if (!io::parseNumberList(value, 3, 4, &v) || (v.size() == 4 && !(v[3] > 0.0))) {
-        return bad("--initial-guess wants x,y,yaw or x,y,yaw,sigma (m, m, rad, m > 0), not '" +
-                   value + "'");
-      }
-      o->guesses.push_back({Pose2(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0});
-      o->estimate = true;
-    } else if (flag == "--rule") {
-      if (!fusion::parseRule(value, &o->rule)) {
-        return bad("--rule wants cautious, dempster, conjunctive, yager or disjunctive, not '" +
-                   value + "'");
-      }
-      o->rule_given = true;
-    } else if (flag == "--discount") {
-      double a = 0.0;
-      if (!parseNumber(value, &a) || !(a >= 0.0 && a <= 1.0)) {
-        return bad("--discount wants a number in [0, 1], not '" + value + "'");
-      }
-      o->discounts.push_back(a);
-    } else if (flag == "--out") {
-      o->out_dir = value;
-    } else if (flag == "--param") {
-      const size_t eq = value.find('=');
-      if (eq == std::string::npos || eq == 0) return bad("--param wants NAME=VALUE");
-      parameters.emplace_back(value.substr(0, eq), value.substr(eq + 1));
-    } else if (flag == "--ground-truth") {
-      o->ground_truth = value;
-    } else if (flag == "--ground-truth-resolution") {
-      if (!parseNumber(value, &o->ground_truth_resolution) ||
-          !(o->ground_truth_resolution > 0.0 && std::isfinite(o->ground_truth_resolution))) {
-        return bad("--ground-truth-resolution wants a number > 0 (m per pixel)");
-      }
-      ground_truth_resolution_given = true;
-    } else if (flag == "--ground-truth-pose") {
-      if (!parsePose(value, &o->ground_truth_pose)) {
-        return bad("--ground-truth-pose wants x,y,yaw (m, m, rad), not '" + value + "'");
-      }
-      ground_truth_pose_given = true;
-    }
-  }
-  for (const auto& [name, text] : parameters) {
-    if (!isSessionParameter(name)) {
-      return bad("--param " + name +
-                 ": not a parameter of a map's files (occupied_thresh, "
-                 "free_thresh, export_octomap, octomap_z_min, octomap_z_max)");
-    }
-    std::string why;
-    if (!setParameter(name, text, &params, &why)) return bad(why);
-  }
-  o->session = params.session;
-  if (o->maps.size() < 2) return bad("at least two --map are required");
-  if (!o->rule_given) return bad("--rule is required");
-  if (o->out_dir.empty()) return bad("--out is required");
-  if (o->estimate && !o->poses.empty()) {
-    return bad(o->guesses.empty() ? "--pose and --estimate exclude each other"
-                                  : "--pose and --initial-guess exclude each other");
-  }
-  if (!o->guesses.empty() && o->guesses.size() != o->maps.size() - 1) {
-    return bad("--initial-guess: " + std::to_string(o->guesses.size()) + " given for " +
-               std::to_string(o->maps.size()) + " maps; one per map after the first");
-  }
-  if (!o->poses.empty() && o->poses.size() != o->maps.size() - 1) {
-    return bad("--pose: " + std::to_string(o->poses.size()) + " given for " +
-               std::to_string(o->maps.size()) + " maps; one per map after the first");
-  }
-  if (o->discounts.size() > 1 && o->discounts.size() != o->maps.size()) {
-    return bad("--discount: " + std::to_string(o->discounts.size()) + " given for " +
-               std::to_string(o->maps.size()) + " maps; one for all or one per map");
-  }
-  if (o->ground_truth.empty() && (ground_truth_pose_given || ground_truth_resolution_given)) {
-    return bad("--ground-truth-pose and --ground-truth-resolution need --ground-truth");
-  }
-  std::string why;
-  if (!o->session.isValid(&why)) return bad("invalid parameters: " + why);
-  return true;
-}
 
 int runFuse(const FuseOptions& options, std::FILE* out, std::FILE* err) {
   // A failed fusion leaves no folder it made (the files are staged, the folders are not).

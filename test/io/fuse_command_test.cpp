@@ -115,6 +115,11 @@ TEST(FuseArgsTest, BadUsageGetsAOneLineError) {
                              "--discount", "0"}))
                 .find("one for all or one per map"),
             std::string::npos);
+  EXPECT_EQ(parseError(with({"--rule", "cautious", "--bogus"})), "unknown option '--bogus'");
+  EXPECT_EQ(parseError(with({"--rule", "cautious", "--estimate=1"})), "--estimate takes no value");
+  EXPECT_EQ(parseError(with({"--rule"})), "--rule needs a value");
+  EXPECT_EQ(parseError(with({"--rule", "cautious", "--ground-truth-resolution", "0"})),
+            "--ground-truth-resolution wants a number > 0 (m per pixel)");
   EXPECT_NE(parseError(with({"--rule", "cautious", "--param", "particles=3"}))
                 .find("not a parameter of a map's files"),
             std::string::npos);

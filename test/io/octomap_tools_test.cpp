@@ -211,8 +211,19 @@ TEST_F(OctomapTools, InfoToolErrors) {
   EXPECT_NE(r.err.find("ColorOcTree"), std::string::npos) << r.err;
   r = runProgram(ES_INFO_BIN, {}, scratch_);
   EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "error: FILE is required (see --help)\n");
   r = runProgram(ES_INFO_BIN, {"--bogus", "x"}, scratch_);
   EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "error: unknown option '--bogus' (see --help)\n");
+  r = runProgram(ES_INFO_BIN, {"a.ot", "b.ot"}, scratch_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "error: unexpected argument 'b.ot' (see --help)\n");
+  r = runProgram(ES_INFO_BIN, {"a.ot", "--compare-layers"}, scratch_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "error: --compare-layers needs a value (see --help)\n");
+  r = runProgram(ES_INFO_BIN, {"--help"}, scratch_);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("--compare-layers DIR"), std::string::npos) << r.out;
 }
 
 // ---- offline runner -------------------------------------------------------------------------

@@ -300,6 +300,44 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
   }
 }
 
+// An unknown option and bad values: one line naming the option.
+TEST(OfflineArgs, UnknownOptionAndBadValueNameTheOption) {
+  const std::vector<std::string> base = {"--rawlog", "a", "--out", "b"};
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--bogus"}, "unknown option '--bogus'"},
+      {{"--bogus=3"}, "unknown option '--bogus=3'"},
+      {{"--max-scans", "0"}, "--max-scans wants an integer >= 1"},
+      {{"--first-scan", "x"}, "--first-scan wants an integer >= 0"},
+      {{"--initial-pose", "1,2"}, "--initial-pose wants X,Y,YAW (three finite numbers: m, m, rad)"},
+      {{"--preset", "../sim"}, "--preset wants the name of a file in config/ (e.g. sim)"},
+      {{"--quiet=1"}, "--quiet takes no value"},
+      {{"--param", "=0.3"}, "--param wants NAME=VALUE"},
+      {{"--seed"}, "--seed needs a value"},
+  };
+  for (const auto& [extra, message] : cases) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    OfflineOptions o;
+    std::string error;
+    EXPECT_FALSE(parse(args, &o, &error)) << ::testing::PrintToString(args);
+    EXPECT_EQ(error, message);
+  }
+  OfflineOptions o;
+  std::string error;
+  EXPECT_FALSE(parse({"--out", "b"}, &o, &error));
+  EXPECT_EQ(error, "--rawlog is required");
+}
+
+// --help lists every parameter --param and --config take, once.
+TEST(OfflineArgs, HelpListsEveryParameter) {
+  const std::string usage = offlineUsage("prog");
+  for (const auto& [name, value] : parameterValues(Parameters())) {
+    const size_t at = usage.find("\n  " + name + " = ");
+    EXPECT_NE(at, std::string::npos) << name;
+    EXPECT_EQ(usage.find("\n  " + name + " = ", at + 1), std::string::npos) << name;
+  }
+}
+
 // The README's option table lists every option of the usage text.
 TEST(OfflineArgs, ReadmeListsEveryOption) {
   std::ifstream in(std::string(ES_TEST_DATA_DIR) + "/../../README.md");
