@@ -9,6 +9,12 @@ with the odometry (odom -> base_link at t). Against the truth at t it prints the
 heading error, and the filter's lag: the clock at that moment minus the stamp of the newest
 handled scan (`~pose`). Ends when the route ends (`~done`).
   /usr/bin/python3 bench/pose_lag.py [--port 11633] [--out DIR] [-- rate:=2 particles:=30 ...]
+  /usr/bin/python3 bench/pose_lag.py --check [--junit FILE] -- duration:=40 particles:=30
+With --check (the smoke test) it fails unless most scans were evaluated, the median lag is within
+--max-lag, the final best path's median error (after the fit) within --max-final-error, and the
+median error of the pose seen while mapping within --max-error: loose, as the online estimate may
+follow a wrong particle for a while (1.1 m in one of three 30 s runs at K = 30), but a broken
+transform chain (map -> odom missing, inverted or from another scan) is off by metres.
 Needs a built workspace (scripts/setup); run it from a shell where scripts/env was sourced.
 """
 
@@ -93,11 +99,22 @@ def measure(args):
     from std_msgs.msg import Bool
     from tf2_msgs.msg import TFMessage
 
+    # rospy reads /use_sim_time once, at init: wait until the launch has set it (a busy machine
+    # starts the master late), else the lag would be measured on the wall clock.
+    import rosgraph
+    master, deadline = rosgraph.Master("/pose_lag"), time.time() + 120
+    while time.time() < deadline:
+        try:
+            if master.hasParam("/use_sim_time"):
+                break
+        except (OSError, rosgraph.MasterException):
+            pass  # the master is not up yet
+        time.sleep(0.5)
     rospy.init_node("pose_lag", anonymous=True)
     map_to_odom, odom_to_base = Stamped(), Stamped()
     pending = []  # truth poses waiting for their odometry
     rows = []
-    state = {"pose_stamp": None, "done": False}
+    state = {"pose_stamp": None, "done": False, "truths": 0}
     lock = threading.Lock()  # rospy runs each subscription's callbacks on a thread of its own
 
     def on_tf(msg):
@@ -118,6 +135,7 @@ def measure(args):
             on_truth_locked(msg)
 
     def on_truth_locked(msg):
+        state["truths"] += 1
         pending.append((msg.header.stamp.to_nsec(), (msg.pose.position.x, msg.pose.position.y,
                                                      yaw_of(msg.pose.orientation))))
         evaluate()
@@ -166,7 +184,7 @@ def measure(args):
                         final[round(float(v[0]), 3)] = (float(v[1]), float(v[2]), 0.0)
     except (rospy.ROSException, OSError) as e:
         print(f"no final path: {e}")
-    return rows, final
+    return rows, final, state["truths"]
 
 
 def main():
@@ -175,6 +193,15 @@ def main():
     ap.add_argument("--port", type=int, default=11633, help="the roscore's port [11633]")
     ap.add_argument("--out", help="directory for the logs and pose_lag.csv (default: a new one)")
     ap.add_argument("--timeout", type=float, default=1800, help="wall s at most [1800]")
+    ap.add_argument("--check", action="store_true",
+                    help="fail unless the scans were evaluated and lag and error are within bounds")
+    ap.add_argument("--max-lag", type=float, default=1.0,
+                    help="with --check: median lag at most this, s [1.0]")
+    ap.add_argument("--max-error", type=float, default=2.0,
+                    help="with --check: median position error while mapping at most this, m [2.0]")
+    ap.add_argument("--max-final-error", type=float, default=0.25,
+                    help="with --check: the final best path's median error at most this, m [0.25]")
+    ap.add_argument("--junit", help="with --check: write the verdict as a JUnit file")
     ap.add_argument("launch_args", nargs="*", help="after --: simulator.launch arguments")
     args = ap.parse_args()
     out = args.out = args.out or tempfile.mkdtemp(prefix="pose_lag.")
@@ -188,7 +215,7 @@ def main():
         proc = subprocess.Popen(launch, stdout=log, stderr=subprocess.STDOUT)
     try:
         time.sleep(3)
-        rows, final = measure(args)
+        rows, final, truths = measure(args)
     finally:
         proc.send_signal(signal.SIGINT)
         try:
@@ -196,6 +223,8 @@ def main():
         except subprocess.TimeoutExpired:
             proc.kill()
     if not rows:
+        if args.check:
+            check(args, ["no scan evaluated (see launch.log)"])
         sys.exit("no scan evaluated (see launch.log)")
     with open(os.path.join(out, "pose_lag.csv"), "w") as f:
         f.write("stamp,position_error_m,heading_error_rad,lag_s\n")
@@ -219,6 +248,36 @@ def main():
     print("| lag behind the simulator (s) | %.2f | %.2f | %.2f |" % (
         statistics.median(lag), percentile(lag, 0.95), max(lag)))
     print(f"per scan: {os.path.join(out, 'pose_lag.csv')}")
+    if args.check:
+        failures = []
+        if len(rows) < 0.8 * truths:
+            failures.append(f"{len(rows)} of {truths} scans evaluated (< 80 %)")
+        if statistics.median(lag) > args.max_lag:
+            failures.append(f"median lag {statistics.median(lag):.2f} s > {args.max_lag} s")
+        if statistics.median(err) > args.max_error:
+            failures.append(f"median position error {statistics.median(err):.3f} m > "
+                            f"{args.max_error} m")
+        if not pairs:
+            failures.append("no final path")
+        elif statistics.median(fe) > args.max_final_error:
+            failures.append(f"final path's median error {statistics.median(fe):.3f} m > "
+                            f"{args.max_final_error} m")
+        sys.exit(0 if check(args, failures) else 1)
+
+
+def check(args, failures):
+    """The smoke test's verdict (--check), also as a JUnit file (--junit)."""
+    for f in failures:
+        print("FAIL " + f)
+    if args.junit:
+        body = "".join(f"<failure message=\"{f}\"/>" for f in failures)
+        os.makedirs(os.path.dirname(os.path.abspath(args.junit)), exist_ok=True)
+        with open(args.junit, "w") as f:
+            f.write(f'<?xml version="1.0"?>\n<testsuite name="pose_lag" tests="1" errors="0" '
+                    f'failures="{1 if failures else 0}"><testcase name="pose_lag">{body}'
+                    f"</testcase></testsuite>\n")
+    print("check: " + ("FAILED" if failures else "passed"))
+    return not failures
 
 
 if __name__ == "__main__":

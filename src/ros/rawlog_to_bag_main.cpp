@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
 
   es::io::RawlogScan item;
   uint64_t written = 0, skipped = 0;
-  double last_stamp = 0.0;
+  double last_stamp = 0.0, range_sigma = 0.0;
   while (true) {
     const es::io::RawlogReader::Status status = reader.next(&item);
     if (status == es::io::RawlogReader::Status::kError) {
@@ -128,6 +128,7 @@ int main(int argc, char** argv) {
       mount.transforms.push_back(es::ros_adapter::toTransformStamped(item.scan.sensor_pose, stamp,
                                                                      base_frame, laser_frame));
       bag.write("/tf_static", stamp, mount, latched);
+      range_sigma = item.scan.range_sigma;
     }
     tf2_msgs::TFMessage odometry;
     odometry.transforms.push_back(
@@ -142,8 +143,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rawlog_to_bag: %s\n", w.c_str());
   std::printf(
       "rawlog_to_bag: %lu scans written to %s (%s, %lu skipped: no positive or increasing "
-      "stamp, or malformed)\n",
+      "stamp, or malformed)\n"
+      "rawlog_to_bag: declared range noise %.4f m (a LaserScan carries none: give the SLAM "
+      "laser_range_sigma:=%.4f for the offline runner's sensor model)\n",
       static_cast<unsigned long>(written), out.c_str(), toString(reader.format()),
-      static_cast<unsigned long>(skipped));
+      static_cast<unsigned long>(skipped), range_sigma, range_sigma);
   return written > 0 ? 0 : 1;
 }

@@ -54,10 +54,10 @@ void SlamOutputs::onScanHandled(const MappingSession& session, const SessionScan
   setMapToOdom(map_to_odom);
   ros::Time ros_stamp;
   ros_stamp.fromSec(result.stamp);
-  // While mapping the correction changes with each scan: tf gets it at the scan's own stamp, so
-  // a lookup there (a consumer of that scan) does not mix in the correction from before it.
-  scan_stamped_ = !localizing;
-  if (!localizing && tf_timer_.isValid()) sendMapToOdom(map_to_odom, ros_stamp);
+  // The correction changes with each scan (mapping and localizing): tf gets it at the scan's own
+  // stamp, so a lookup there (a consumer of that scan) does not mix in the correction from before.
+  scan_stamped_ = true;
+  if (tf_timer_.isValid()) sendMapToOdom(map_to_odom, ros_stamp);
   // A paused scan adds no conflict: the alarm did not see it.
   if (result.update.processed && !session.mappingPaused()) reportConflict(result, ros_stamp);
 

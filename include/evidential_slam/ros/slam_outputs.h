@@ -1,8 +1,8 @@
 // What the SLAM node tells after each scan: ~pose, ~particles (while subscribed), ~path, the
 // conflict alarm (~conflict_added, ~open_space_conflict_added, a status on /diagnostics and a
-// warning when an alarm rises), and map -> odom: while mapping, stamped with each handled scan's
-// stamp (a lookup at a scan's stamp gets that scan's correction), and on a timer post-dated like
-// gmapping's (lookups at the present).
+// warning when an alarm rises), and map -> odom: stamped with each handled scan's stamp (a lookup
+// at a scan's stamp gets that scan's correction), and on a timer post-dated like gmapping's
+// (lookups at the present).
 #pragma once
 
 #include <atomic>
@@ -54,7 +54,7 @@ class SlamOutputs {
   Pose2 map_to_odom_;
   std::mutex tf_mutex_;                    // the timer's and the worker's broadcasts
   ros::Time last_timer_now_;               // tf timer thread only
-  std::atomic<bool> scan_stamped_{false};  // map -> odom also goes at each scan's stamp (mapping)
+  std::atomic<bool> scan_stamped_{false};  // map -> odom also went at a scan's stamp
   TfStampGuard tf_guard_;
 };
 
