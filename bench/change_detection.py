@@ -49,6 +49,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import scenarios as S  # noqa: E402
+import smoke_check  # noqa: E402
 
 REPO = os.path.dirname(HERE)
 BIN = os.path.join(REPO, ".ws", "devel", "lib", "evidential_slam")
@@ -441,17 +442,7 @@ def check(results, junit):
     for r in results:
         if r["false_alarms"]:
             failures.append(f"{r['false_alarms']} false alarm(s) in scenario {r['seed']}")
-    if junit:
-        # The first test of a clean build: the results folder may not exist yet.
-        os.makedirs(os.path.dirname(os.path.abspath(junit)), exist_ok=True)
-        with open(junit, "w") as f:
-            body = "".join(f'<failure message="{m}"/>' for m in failures)
-            f.write('<?xml version="1.0"?>\n<testsuite name="change_detection" tests="1" '
-                    f'errors="0" failures="{1 if failures else 0}"><testcase name="smoke">{body}'
-                    '</testcase></testsuite>\n')
-    for m in failures:
-        print("CHECK FAILED: " + m)
-    return not failures
+    return smoke_check.report(failures, junit, "change_detection")
 
 
 def run_task(task, args):

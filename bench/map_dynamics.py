@@ -50,6 +50,8 @@ import sys
 import zlib
 from array import array
 
+import smoke_check  # bench/, this script's folder
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 BIN = os.path.join(REPO, ".ws", "devel", "lib", "evidential_slam")
@@ -499,17 +501,7 @@ def check_within(args, methods, rows):
                 if r[f"{name}{k}"] < floor:
                     failures.append(f"seed {r['seed']} {m}: {name} {100 * r[f'{name}{k}']:.1f} % "
                                     f"after lap {k} (< {100 * floor:.0f} %)")
-    for f in failures:
-        print("FAIL " + f)
-    if args.junit:
-        body = "".join(f"<failure message=\"{f}\"/>" for f in failures)
-        os.makedirs(os.path.dirname(os.path.abspath(args.junit)), exist_ok=True)
-        with open(args.junit, "w") as f:
-            f.write(f'<?xml version="1.0"?>\n<testsuite name="map_dynamics_within" tests="1" '
-                    f'errors="0" failures="{1 if failures else 0}"><testcase name="within_run">'
-                    f"{body}</testcase></testsuite>\n")
-    print("check: " + ("FAILED" if failures else "passed"))
-    return not failures
+    return smoke_check.report(failures, args.junit, "map_dynamics_within", "within_run")
 
 
 def main():

@@ -30,6 +30,8 @@ import tempfile
 import threading
 import time
 
+import smoke_check  # bench/, this script's folder
+
 
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
@@ -267,17 +269,7 @@ def main():
 
 def check(args, failures):
     """The smoke test's verdict (--check), also as a JUnit file (--junit)."""
-    for f in failures:
-        print("FAIL " + f)
-    if args.junit:
-        body = "".join(f"<failure message=\"{f}\"/>" for f in failures)
-        os.makedirs(os.path.dirname(os.path.abspath(args.junit)), exist_ok=True)
-        with open(args.junit, "w") as f:
-            f.write(f'<?xml version="1.0"?>\n<testsuite name="pose_lag" tests="1" errors="0" '
-                    f'failures="{1 if failures else 0}"><testcase name="pose_lag">{body}'
-                    f"</testcase></testsuite>\n")
-    print("check: " + ("FAILED" if failures else "passed"))
-    return not failures
+    return smoke_check.report(failures, args.junit, "pose_lag", "pose_lag")
 
 
 if __name__ == "__main__":

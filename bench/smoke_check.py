@@ -1,0 +1,20 @@
+"""The verdict of a benchmark run as a CI smoke test (--check): prints each failure and writes the
+JUnit file catkin counts (--junit), one test case that fails when any check did."""
+import os
+from xml.sax.saxutils import quoteattr
+
+
+def report(failures, junit, suite, case="smoke"):
+    """Prints `failures` (messages), writes them to `junit` when given; True when there are none."""
+    for message in failures:
+        print("CHECK FAILED: " + message)
+    if junit:
+        # The first test of a clean build: the results folder may not exist yet.
+        os.makedirs(os.path.dirname(os.path.abspath(junit)), exist_ok=True)
+        body = "".join(f"<failure message={quoteattr(m)}/>" for m in failures)
+        with open(junit, "w") as f:
+            f.write(f'<?xml version="1.0"?>\n<testsuite name={quoteattr(suite)} tests="1" errors="0" '
+                    f'failures="{1 if failures else 0}"><testcase name={quoteattr(case)}>{body}'
+                    "</testcase></testsuite>\n")
+    print("check: " + ("FAILED" if failures else "passed"))
+    return not failures
