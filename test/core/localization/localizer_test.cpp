@@ -365,6 +365,7 @@ std::vector<double> kidnapped(const LocalizationConfig& c, int* respread_at = nu
 TEST(Localizer, KidnapIsDetectedAndRecovered) {
   LocalizationConfig c = localizationConfig();
   c.max_particles = 2000;
+  c.kidnap_recovery = true;
   int respread_at = -1;
   const std::vector<double> errors = kidnapped(c, &respread_at);
   EXPECT_GE(respread_at, 0);
