@@ -6,7 +6,6 @@
 // last two rendered only for their subscribers.
 #pragma once
 
-#include <array>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -21,7 +20,6 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/fusion/alignment_schedule.h"
 #include "evidential_slam/core/fusion/combination.h"
-#include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/parameters.h"
 #include "evidential_slam/core/pose2.h"
 #include "evidential_slam/ros/map_fusion_params.h"
