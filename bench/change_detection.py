@@ -565,4 +565,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    smoke_check.run(main, "change_detection")

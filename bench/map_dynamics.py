@@ -666,4 +666,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    smoke_check.run(main, "map_dynamics_within", "within_run")

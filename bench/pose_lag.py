@@ -184,8 +184,9 @@ def measure(args):
                     if line.strip() and not line.startswith("#"):
                         v = line.split()
                         final[round(float(v[0]), 3)] = (float(v[1]), float(v[2]), 0.0)
-    except (rospy.ROSException, OSError) as e:
-        print(f"no final path: {e}")
+    except (rospy.ROSException, rospy.ServiceException, OSError) as e:
+        # rospy.ServiceException (a failed call) is not a ROSException.
+        print(f"no final path: {e!r}")
     return rows, final, state["truths"]
 
 
@@ -273,4 +274,4 @@ def check(args, failures):
 
 
 if __name__ == "__main__":
-    main()
+    smoke_check.run(main, "pose_lag", "pose_lag")

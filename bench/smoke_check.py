@@ -1,6 +1,7 @@
 """The verdict of a benchmark run as a CI smoke test (--check): prints each failure and writes the
 JUnit file catkin counts (--junit), one test case that fails when any check did."""
 import os
+import sys
 from xml.sax.saxutils import quoteattr
 
 
@@ -18,3 +19,15 @@ def report(failures, junit, suite, case="smoke"):
                     "</testcase></testsuite>\n")
     print("check: " + ("FAILED" if failures else "passed"))
     return not failures
+
+
+def run(main, suite, case="smoke"):
+    """Runs `main()`; when it raises and the command line has --check and --junit FILE, the error is
+    also the smoke test's failed verdict in FILE (catkin otherwise reports only a missing file)."""
+    try:
+        main()
+    except Exception as e:  # noqa: BLE001 - any error on the way fails the smoke test
+        argv = sys.argv
+        if "--check" in argv and "--junit" in argv[:-1]:
+            report(["error: %r" % e], argv[argv.index("--junit") + 1], suite, case)
+        raise
