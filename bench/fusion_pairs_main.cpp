@@ -224,6 +224,10 @@ int main(int argc, char** argv) {
   Verdict verdict[2][2][2];
   int scored = 0;
   int fused_accurate_same_cells = 0, fused_accurate_on_both = 0;
+  // Truth cells a map classifies (the second as the fused map samples it) that the fused map
+  // leaves unknown: where the two maps contradict each other (conflict >= 0.01), and elsewhere.
+  size_t lost_contradicted = 0, lost_uncontradicted = 0;
+  int fused_knows_more_sampled = 0;
   int fused_knows_more = 0, fused_accurate = 0, max_accurate = 0, logodds_accurate = 0;
   double sum_cov[5] = {0}, sum_acc[5] = {0};
   es::fusion::AlignmentConfig score_only;
@@ -370,6 +374,34 @@ int main(int argc, char** argv) {
       sum_acc[i] += scores[i]->accuracy();
     }
     fused_knows_more += sf.coverage() >= std::max(sa.coverage(), sb.coverage());
+    // The second map as the fused map's cells sample it (nearest neighbour at their centres):
+    // scored at the truth's cells directly, its cells are sampled at other points.
+    es::EvidentialGridMap b_sampled;
+    if (!es::fusion::fuseMaps({{&a, Pose2(), 1.0}, {&b, truth}}, config, &b_sampled, &report,
+                              &why)) {
+      std::fprintf(stderr, "pair %d: resampling failed: %s\n", k, why.c_str());
+      return 3;
+    }
+    const Score sbs = evidential(b_sampled, Pose2());
+    fused_knows_more_sampled += sf.coverage() >= std::max(sa.coverage(), sbs.coverage());
+    for (int j = 0; j < truth_raster.height; ++j) {
+      for (int i = 0; i < truth_raster.width; ++i) {
+        const double x = truth_raster.origin_x + (i + 0.5) * kRes;
+        const double y = truth_raster.origin_y + (j + 0.5) * kRes;
+        const es::Cell ca = cellOf(a, Pose2(), x, y), cb = cellOf(b_sampled, Pose2(), x, y);
+        const bool known = es::fusion::classify(ca, classify) != CellClass::kUnknown ||
+                           es::fusion::classify(cb, classify) != CellClass::kUnknown;
+        if (!known || es::fusion::classify(cellOf(fused, Pose2(), x, y), classify) !=
+                          CellClass::kUnknown) {
+          continue;
+        }
+        const bool both = ca.observed() && cb.observed();
+        const double k_ab = both ? es::fusion::conflictBetween(es::fusion::Belief::fromCell(ca),
+                                                               es::fusion::Belief::fromCell(cb))
+                                 : 0.0;
+        ++(k_ab >= 0.01 ? lost_contradicted : lost_uncontradicted);
+      }
+    }
     const double best_acc = std::max(sa.accuracy(), sb.accuracy());
     fused_accurate += sf.accuracy() >= best_acc - 0.001;
     // The same comparison on the same cells: the fused map's accuracy where the better map
@@ -449,6 +481,11 @@ int main(int argc, char** argv) {
   }
   std::printf("pairs where the fusion knows at least as much as the better map: %d of %d\n",
               fused_knows_more, scored);
+  std::printf(
+      "... the second map sampled at the fused map's cells: %d of %d; cells a map knows and the "
+      "fusion does not: %zu where the maps contradict each other (conflict >= 0.01), %zu "
+      "elsewhere\n",
+      fused_knows_more_sampled, scored, lost_contradicted, lost_uncontradicted);
   std::printf(
       "pairs with accuracy >= the better map's - 0.001: cautious %d, max %d, log-odds %d "
       "of %d\n",
