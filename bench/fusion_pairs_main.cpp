@@ -391,8 +391,8 @@ int main(int argc, char** argv) {
         const es::Cell ca = cellOf(a, Pose2(), x, y), cb = cellOf(b_sampled, Pose2(), x, y);
         const bool known = es::fusion::classify(ca, classify) != CellClass::kUnknown ||
                            es::fusion::classify(cb, classify) != CellClass::kUnknown;
-        if (!known || es::fusion::classify(cellOf(fused, Pose2(), x, y), classify) !=
-                          CellClass::kUnknown) {
+        if (!known ||
+            es::fusion::classify(cellOf(fused, Pose2(), x, y), classify) != CellClass::kUnknown) {
           continue;
         }
         const bool both = ca.observed() && cb.observed();

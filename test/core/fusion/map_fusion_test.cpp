@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "evidential_slam/core/fusion/map_fusion.h"
+#include "evidential_slam/core/fusion/map_score.h"
 
 namespace evidential_slam {
 namespace fusion {
@@ -97,6 +98,45 @@ TEST(MapFusionTest, AnEmptyMapChangesNothing) {
     for (int y = 0; y < 30; ++y) {
       for (int x = 0; x < 40; ++x) ASSERT_EQ(out.cell(x, y), a.cell(x, y)) << ruleName(rule);
     }
+  }
+}
+
+// What either map knows, the cautious fusion knows where the other does not contradict it: a
+// cell classified by one map keeps its class when the other map's cell gives its opposite no mass
+// (it supports the same singleton weakly, or only Θ, with or without stored conflict). Example:
+// a = (o 0.7, e 0.1) has BetP(o) 0.8 and NS 0.2; b = (o 0.3, e 0) has weights w(o) 0.7, w(e) 1;
+// the minimum weights are a's w(o) = 0.2/0.9 and w(e) = 0.2/0.3, so the fusion is a itself.
+TEST(MapFusionTest, ACellOneMapKnowsKeepsItsClassWhereTheOtherDoesNotContradictIt) {
+  const ClassifyConfig thresholds;
+  const std::vector<float> levels = {0.0f,  0.05f, 0.1f,  0.2f, 0.3f,
+                                     0.45f, 0.6f,  0.75f, 0.9f, 0.99f};
+  EvidentialGridMap a(0.05), b(0.05);
+  int x = 0, known = 0;
+  for (const float o : levels) {
+    for (const float e : levels) {
+      if (o + e > 1.0f) continue;
+      for (const float weak : {0.0f, 0.1f, 0.4f, 0.8f}) {
+        for (const float lambda : {0.0f, 0.5f}) {
+          set(&a, x, 0, o, e);
+          const CellClass c = classify(a.cell(x, 0), thresholds);
+          if (c == CellClass::kUnknown) continue;
+          // b: weak support for a's class, none for the other (weak 0: observed, only Θ).
+          if (c == CellClass::kOccupied) set(&b, x, 0, weak, 0.0f, lambda);
+          if (c == CellClass::kFree) set(&b, x, 0, 0.0f, weak, lambda);
+          ++x;
+          ++known;
+        }
+      }
+    }
+  }
+  ASSERT_GT(known, 100);
+  EvidentialGridMap out;
+  FusionReport report;
+  ASSERT_TRUE(fuse({{&a, Pose2()}, {&b, Pose2()}}, Rule::kCautious, &out, &report));
+  for (int i = 0; i < x; ++i) {
+    EXPECT_EQ(classify(out.cell(i, 0), thresholds), classify(a.cell(i, 0), thresholds))
+        << "a " << a.cell(i, 0).occupied() << " " << a.cell(i, 0).free() << ", b "
+        << b.cell(i, 0).occupied() << " " << b.cell(i, 0).free();
   }
 }
 
