@@ -93,12 +93,13 @@ BeamLookup::BeamLookup(const EvidentialGridMap& map, bool conflict_as_unknown)
       conflict_as_unknown_(conflict_as_unknown) {
   if (box_.empty()) throw std::invalid_argument("BeamLookup: the map has no observed cell");
   const int w = box_.width(), h = box_.height();
-  cells_.resize(static_cast<size_t>(w) * static_cast<size_t>(h));
-  std::vector<uint8_t> opaque(cells_.size(), 0), uncertain(cells_.size(), 0);
+  // Filled cell by cell (not value-initialised first: one pass over the largest array).
+  cells_.reserve(static_cast<size_t>(w) * static_cast<size_t>(h));
+  std::vector<uint8_t> opaque(cells_.capacity(), 0), uncertain(cells_.capacity(), 0);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const Cell& c = map.cell(box_.min_x + x, box_.min_y + y);
-      CellMasses& m = cells_[static_cast<size_t>(y) * w + x];
+      CellMasses& m = cells_.emplace_back();
       double mo = c.occupied(), mu = c.unknown();
       if (conflict_as_unknown_ && c.conflicted()) {  // as ForwardPass::visit
         const double keep = c.oneMinusConflict();
