@@ -15,7 +15,9 @@
 // map (anomaly.h): what changed since the map was made. What that anomaly contradicts feeds the
 // conflict alarm; when it fires (the scans contradict the map far more than while the filter
 // tracked), kidnap_recovery spreads the particles over the free space again, as a global
-// localization.
+// localization. With global_search (the default) both draw the particles around the poses where
+// the scan fits best on the whole map (GlobalSearch, a correlative branch and bound) instead of
+// uniformly: a uniform cloud rarely puts a sample in the scan matcher's basin around the truth.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +39,7 @@
 namespace evidential_slam {
 
 class BeamLookup;
+class GlobalSearch;
 class LikelihoodField;
 class Rng;
 class WorkerPool;
@@ -76,6 +79,8 @@ struct LocalizerStats {
   double lookup_build_s = 0.0;    // its build time (process CPU s)
   uint64_t anomaly_traces = 0;    // updates whose scan was traced for the anomaly
   uint64_t recoveries = 0;        // kidnap_recovery's spreads over the free space
+  uint64_t global_searches = 0;   // correlative searches of a scan over the map (global_search)
+  double global_search_s = 0.0;   // their process CPU time, score grids' build included
 };
 
 class Localizer {
@@ -103,8 +108,9 @@ class Localizer {
   // resetAt with the configured initial_cov_xx, _yy, _aa.
   bool resetAt(const Pose2& pose, std::string* why);
   // Spreads max_particles uniformly over the map's free space (observed cells with BetP(o) <
-  // kFreeSpaceBetP and NS < kFreeSpaceNS) with uniform headings. False (and `why`) when the map
-  // has no free space.
+  // kFreeSpaceBetP and NS < kFreeSpaceNS) with uniform headings; with global_search, the next
+  // scan is then searched for over that free space and the particles are drawn around where it
+  // fits best before it is weighed. False (and `why`) when the map has no free space.
   bool globalLocalization(std::string* why);
   static constexpr double kFreeSpaceBetP = 0.25;
   static constexpr double kFreeSpaceNS = 0.5;
@@ -153,6 +159,10 @@ class Localizer {
   void restartFilter();
   // max_particles poses drawn uniformly from the free space (buildFreeCells first; not empty).
   void spreadOverFreeSpace();
+  // max_particles poses drawn around the best hypotheses of a GlobalSearch of `scan`'s hit beams
+  // (buildFreeCells first; not empty), a Gaussian each; false (nothing changes) when the scan
+  // has no hit beam to search with.
+  bool seedFromSearch(const LaserScan& scan, const Models& models);
 
   LocalizationConfig config_;
   SlamConfig slam_;
@@ -163,6 +173,9 @@ class Localizer {
   std::vector<std::unique_ptr<Models>> models_;
   std::unique_ptr<LikelihoodField> field_;  // built at the first likelihood_field update
   std::unique_ptr<BeamLookup> lookup_;      // built at the first beam update
+  std::unique_ptr<GlobalSearch> search_;    // built at the first search (per end uncertainty)
+  // globalLocalization with global_search: the next scan is searched for before it is weighed.
+  bool search_pending_ = false;
   // The rate of short readings (unexpected obstacles) at the estimate, a running mean over
   // updates: the beam model's plausibility of a short reading.
   double short_rate_ = 0.0;
