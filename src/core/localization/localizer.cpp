@@ -232,23 +232,34 @@ bool Localizer::seedFromSearch(const LaserScan& scan, const Models& models) {
   options.region_xy = config_.kld_bin_xy;
   options.region_angle = config_.kld_bin_angle;
   const std::vector<PoseHypothesis> found = search_->search(points, options);
+  // Each hypothesis refined by the scan matcher (sub-cell, between the heading steps).
+  std::vector<Pose2> refined(found.size());
+  const std::vector<MatchPoint> endpoints =
+      slam_.matcher.enabled ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
+  pool_->run(found.size(), [&](size_t k, int) {
+    refined[k] =
+        endpoints.empty() ? found[k].pose : models.matcher.refine(map_, found[k].pose, endpoints);
+  });
   stats_.global_search_s += static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
   ++stats_.global_searches;
   if (found.empty()) return false;
-  // Each hypothesis is a cell and a heading step wide; the scan places it within its ends' σ:
-  // samples within σ in position and σ / (mean range) in heading.
+  // A particle on each refined hypothesis, the others drawn around them: within σ in position and
+  // σ / (mean range) in heading, where the scan placed the hypothesis before the refinement.
   const double sigma_theta = sigma / std::max(range_sum / points.size(), map_.resolution());
   restartFilter();
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   const size_t n = static_cast<size_t>(config_.max_particles);
   particles_.assign(n, LocalizationParticle{Pose2(), 1.0 / static_cast<double>(n)});
   for (size_t i = 0; i < n; ++i) {
-    const Pose2& h = found[i % found.size()].pose;
-    particles_[i].pose = Pose2(h.x + sigma * rng.gaussian(), h.y + sigma * rng.gaussian(),
-                               normalizeAngle(h.theta + sigma_theta * rng.gaussian()));
+    const Pose2& h = refined[i % refined.size()];
+    particles_[i].pose = i < refined.size()
+                             ? h
+                             : Pose2(h.x + sigma * rng.gaussian(), h.y + sigma * rng.gaussian(),
+                                     normalizeAngle(h.theta + sigma_theta * rng.gaussian()));
   }
   computeEstimate();
   searching_ = true;
+  seeded_ = true;
   return true;
 }
 
@@ -260,6 +271,7 @@ void Localizer::spreadOverFreeSpace() {
   for (LocalizationParticle& p : particles_) p.pose = randomFreePose(&rng);
   computeEstimate();
   searching_ = true;
+  seeded_ = false;
 }
 
 bool Localizer::onMappedFloor(const Pose2& pose) const {
@@ -354,13 +366,19 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
 
   // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples
   // onto the matcher's optimum and cost accuracy while tracking (docs/decisions.md). Only while a
-  // global localization has not found the pose is each sample matched, so that a cloud as sparse
-  // as max_particles over the whole floor reaches the matcher's basin around the true pose.
+  // uniformly spread global localization has not found the pose is each sample matched, so that a
+  // cloud as sparse as max_particles over the whole floor reaches the matcher's basin around the
+  // true pose.
   if (searching_) searching_ = cloudSpread() > slam_.matcher.search_radius;
   // While a global localization searches, the cloud covers unexplored space too, where ignorance
   // must not count as support: never-observed ends weigh r then (docs/decisions.md).
   lookup_options.unobserved_collects = !config_.laser_unobserved_random_only && !searching_;
-  const bool match_each = searching_ && !endpoints.empty();
+  // A cloud drawn around a global search's refined hypotheses already sits where the scan fits:
+  // the beam model's weights single the truth out without a match per sample. amcl's weight
+  // 1 + Σ p³ (likelihood_field) is too flat near an optimum for that: its samples are matched,
+  // which gathers them on the hypotheses' optima (docs/decisions.md).
+  const bool match_each =
+      searching_ && (!seeded_ || config_.likelihoodField()) && !endpoints.empty();
   // The proposal samples the raw odometry's drift (a random walk per metre and radian), not the
   // SLAM's alpha_*, sized for samples after a scan match; the SLAM's floors stay.
   OdometryDrift drift;

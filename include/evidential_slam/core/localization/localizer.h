@@ -1,16 +1,16 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
 // only; each update samples the odometry's drift (odom_drift_*, a random walk: sampleDrift) as the
-// proposal (amcl's scheme; after a global localization, until the cloud has narrowed to the scan
-// matcher's search radius, each sample is also scan-matched), weighs the samples on at most
-// laser_max_beams hit beams by laser_model_type's model: beam (the evidential forward model on a
-// BeamLookup built once per map, tempered like the SLAM's weights), beam_traced (the same model ray
-// traced, BeamModel) or likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 +
-// Σ p^3), and never writes the map. Every resample_interval updates (with selective_resampling,
-// only when the effective sample size has dropped below half) the particles are resampled with
-// KLD-sampling, which adapts their number to the spread of the cloud between min_particles and
-// max_particles; with recovery_alpha_slow/_fast, random poses from the map's free space are added
-// when the scans' plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and
-// covariance of the heaviest cluster of particles, its mean refined by one scan match
+// proposal (amcl's scheme; after a uniformly spread global localization, until the cloud has
+// narrowed to the scan matcher's search radius, each sample is also scan-matched), weighs the
+// samples on at most laser_max_beams hit beams by laser_model_type's model: beam (the evidential
+// forward model on a BeamLookup built once per map, tempered like the SLAM's weights), beam_traced
+// (the same model ray traced, BeamModel) or likelihood_field (LikelihoodField, computed once per
+// map; amcl's weight 1 + Σ p^3), and never writes the map. Every resample_interval updates (with
+// selective_resampling, only when the effective sample size has dropped below half) the particles
+// are resampled with KLD-sampling, which adapts their number to the spread of the cloud between
+// min_particles and max_particles; with recovery_alpha_slow/_fast, random poses from the map's free
+// space are added when the scans' plausibility drops (augmented MCL, as amcl). The pose estimate is
+// the mean and covariance of the heaviest cluster of particles, its mean refined by one scan match
 // (scan_matching). The anomaly of every processed scan at the estimate is accumulated against the
 // map (anomaly.h): what changed since the map was made. What that anomaly contradicts feeds the
 // conflict alarm; when it fires (the scans contradict the map far more than while the filter
@@ -186,6 +186,8 @@ class Localizer {
   // A global localization whose cloud is still wider than the matcher's search radius: each
   // sample is matched.
   bool searching_ = false;
+  // The searching cloud was drawn around a GlobalSearch's hypotheses (not matched per sample).
+  bool seeded_ = false;
   bool force_update_ = false;
   Pose2 last_update_odometry_;
   Pose2 last_odometry_;
