@@ -103,7 +103,7 @@ bool Run::startLocalization(MappingSession* session, const LoadedMap& loaded, st
   summary.x = start.pose.x;
   summary.y = start.pose.y;
   summary.theta = start.pose.theta;
-  summary.pose_from = start.global            ? "--global"
+  summary.pose_from = start.global ? "--global"
                       : opt_.has_initial_pose ? "--initial-pose"
                                               : "default (0, 0, 0)";
   summary_.start = summary;
@@ -471,15 +471,16 @@ int Run::execute() {
   summary_.peak_rss_mb = peakRssMb();
   if (profiler) {
     char line[160];
-    std::snprintf(
-        line, sizeof(line),
-        "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
-        "update (floor replay included)\n",
-        slam_cpu_s,
-        1e3 * slam_cpu_s / std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
+    std::snprintf(line, sizeof(line),
+                  "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
+                  "update (floor replay included)\n",
+                  slam_cpu_s,
+                  1e3 * slam_cpu_s /
+                      std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
     const std::string report = profiler->report() + line;
-    if (!outputs_.add((out_dir_ / "profile.txt").string(),
-                      [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
+    if (!outputs_.add(
+            (out_dir_ / "profile.txt").string(),
+            [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
       return fail(kExitBadInput, why);
     }
     summary_.outputs.push_back("profile.txt");

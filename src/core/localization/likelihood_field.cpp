@@ -42,8 +42,8 @@ double LikelihoodField::distance(double x, double y) const {
   return distance_[static_cast<size_t>(cy) * box_.width() + cx];
 }
 
-double LikelihoodField::logLikelihood(const Pose2& sensor, const LaserScan& beams, double sigma_hit,
-                                      double z_hit, double z_rand) const {
+double LikelihoodField::logLikelihood(const Pose2& sensor, const LaserScan& beams,
+                                      double sigma_hit, double z_hit, double z_rand) const {
   return score(sensor, beams, sigma_hit, z_hit, z_rand).log_likelihood;
 }
 

@@ -79,12 +79,13 @@ TEST(LikelihoodField, LogLikelihoodByHand) {
   beams.ranges = {0.8f, 0.2f, 1.0f};
   beams.bearings = {0.0f, static_cast<float>(M_PI / 2), static_cast<float>(M_PI)};
   beams.valid = {1, 1, 1};
-  EXPECT_NEAR(field.logLikelihood(Pose2(0.05, 0.25, 0.0), beams, 0.2, 0.95, 0.05), -5.514708, 1e-5);
+  EXPECT_NEAR(field.logLikelihood(Pose2(0.05, 0.25, 0.0), beams, 0.2, 0.95, 0.05), -5.514708,
+              1e-5);
   // The same beams turned with the pose: the sensor's heading applies.
   LaserScan turned = beams;
   for (float& b : turned.bearings) b -= static_cast<float>(M_PI / 2);
-  EXPECT_NEAR(field.logLikelihood(Pose2(0.05, 0.25, M_PI / 2), turned, 0.2, 0.95, 0.05), -5.514708,
-              1e-5);
+  EXPECT_NEAR(field.logLikelihood(Pose2(0.05, 0.25, M_PI / 2), turned, 0.2, 0.95, 0.05),
+              -5.514708, 1e-5);
   // amcl's weight of the same beams: 1 + 0.955^3 + 0.843372^3 + 0.005^3 = 2.470855.
   const FieldScore score = field.score(Pose2(0.05, 0.25, 0.0), beams, 0.2, 0.95, 0.05);
   EXPECT_NEAR(score.amcl_weight, 2.470855, 1e-6);

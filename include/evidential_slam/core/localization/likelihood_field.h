@@ -46,8 +46,8 @@ class LikelihoodField {
   // ln(z_hit exp(-d^2 / (2 sigma_hit^2)) + z_rand / beams.max_range), their endpoints seen from
   // `sensor` (the laser's pose in the map). A beam of likelihood 0 (z_rand = 0, far off) counts
   // as the smallest positive double.
-  double logLikelihood(const Pose2& sensor, const LaserScan& beams, double sigma_hit, double z_hit,
-                       double z_rand) const;
+  double logLikelihood(const Pose2& sensor, const LaserScan& beams, double sigma_hit,
+                       double z_hit, double z_rand) const;
   // Both sums over the beams of `beams`, p as for logLikelihood, in one pass.
   FieldScore score(const Pose2& sensor, const LaserScan& beams, double sigma_hit, double z_hit,
                    double z_rand) const;
