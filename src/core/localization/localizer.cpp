@@ -40,7 +40,7 @@ constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
 // last ten updates: a crowd that comes or goes is followed within a few metres).
 constexpr double kShortRateWeight = 0.1;
 // Particles per hypothesis of a global search: the max_particles / 10 best regions are kept, each
-// a small Gaussian of samples that the first update scan-matches into the basin of the truth.
+// a particle on its refined pose and nine drawn around it (docs/decisions.md).
 constexpr int kParticlesPerHypothesis = 10;
 }  // namespace
 
@@ -502,10 +502,11 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
         trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean});
         // With global_search, the particles are drawn where this scan fits best and move on
         // from this odometry; else spread uniformly, the next scan weighed where they are.
-        if (!config_.global_search || !seedFromSearch(scan, models)) spreadOverFreeSpace();
-        if (config_.global_search) {
+        if (config_.global_search && seedFromSearch(scan, models)) {
           have_odometry_ = true;
           force_update_ = false;
+        } else {
+          spreadOverFreeSpace();
         }
         alarm_.rearm();
         ++stats_.recoveries;
