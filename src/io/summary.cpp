@@ -111,6 +111,8 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
     o["lookup_bytes"] = l.lookup_bytes;
     o["lookup_build_s"] = l.lookup_build_s;
     o["recoveries"] = l.recoveries;
+    o["global_searches"] = l.global_searches;
+    o["global_search_s"] = l.global_search_s;
     j["localization"] = o;
   }
 

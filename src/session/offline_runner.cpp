@@ -374,6 +374,8 @@ int Run::execute() {
     loc.lookup_bytes = l.lookup_bytes;
     loc.lookup_build_s = l.lookup_build_s;
     loc.recoveries = l.recoveries;
+    loc.global_searches = l.global_searches;
+    loc.global_search_s = l.global_search_s;
     summary_.localization = loc;
     summary_.scans_processed = l.scans_processed;
     summary_.resamplings = l.resamplings;

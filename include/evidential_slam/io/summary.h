@@ -62,6 +62,8 @@ struct LocalizationSummary {
   uint64_t lookup_bytes = 0;          // laser_model_type beam: the lookup's memory (0: not built)
   double lookup_build_s = 0.0;        // ... and its build time (CPU s)
   uint64_t recoveries = 0;            // kidnap_recovery's spreads over the free space
+  uint64_t global_searches = 0;       // correlative searches of a scan over the map
+  double global_search_s = 0.0;       // ... their CPU s (score grids built included)
 };
 
 struct RunSummary {

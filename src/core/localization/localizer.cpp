@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "evidential_slam/core/localization/beam_lookup.h"
+#include "evidential_slam/core/localization/global_search.h"
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/localization/likelihood_field.h"
 #include "evidential_slam/core/measures.h"
@@ -38,6 +39,9 @@ constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
 // The short readings' rate is a running mean with this weight on the newest update (about the
 // last ten updates: a crowd that comes or goes is followed within a few metres).
 constexpr double kShortRateWeight = 0.1;
+// Particles per hypothesis of a global search: the max_particles / 10 best regions are kept, each
+// a particle on its refined pose and nine drawn around it (docs/decisions.md).
+constexpr int kParticlesPerHypothesis = 10;
 }  // namespace
 
 // The models for one declared range noise (as the SLAM's, without its long-step settings).
@@ -81,6 +85,8 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   field_.reset();
   lookup_.reset();
   free_tiles_.reset();
+  search_.reset();
+  search_pending_ = false;
   short_rate_ = 0.0;
   particles_.clear();
   anomaly_.clear();
@@ -93,6 +99,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
 
 void Localizer::restartFilter() {
   searching_ = false;
+  search_pending_ = false;
   have_odometry_ = false;
   force_update_ = true;
   updates_since_resample_ = 0;
@@ -193,6 +200,67 @@ bool Localizer::globalLocalization(std::string* why) {
   if (free_cells_.empty()) return refuse(why, "the map has no free space to spread particles on");
   alarm_.reset();
   spreadOverFreeSpace();
+  search_pending_ = config_.global_search;
+  return true;
+}
+
+bool Localizer::seedFromSearch(const LaserScan& scan, const Models& models) {
+  // The beams searched: the weighed ones (at most laser_max_beams hits, evenly spread), their
+  // endpoints in the robot frame.
+  const LaserScan all_hits = ParticleFilter::hitBeamSubset(scan, models.sensor, 1);
+  const int stride =
+      std::max<int>(1, static_cast<int>(std::ceil(static_cast<double>(all_hits.ranges.size()) /
+                                                  config_.laser_max_beams)));
+  const LaserScan hits = ParticleFilter::hitBeamSubset(scan, models.sensor, stride);
+  std::vector<Eigen::Vector2d> points;
+  double range_sum = 0.0;
+  for (size_t i = 0; i < hits.ranges.size(); ++i) {
+    const double r = hits.ranges[i], b = hits.bearings[i];
+    const Pose2 end = scan.sensor_pose.compose(Pose2(r * std::cos(b), r * std::sin(b), 0.0));
+    points.emplace_back(end.x, end.y);
+    range_sum += points.back().norm();
+  }
+  if (points.empty()) return false;
+  const std::clock_t t0 = std::clock();
+  // A beam's end is uncertain by the forward model's σ_f (the range noise and the cell) and by
+  // the map's cell: the field's σ.
+  const double sigma = std::max(models.sensor.forward_sigma, map_.resolution());
+  if (!search_ || search_->sigma() != sigma) {
+    search_ = std::make_unique<GlobalSearch>(map_, sigma, free_cells_);
+  }
+  GlobalSearch::Options options;
+  options.count = static_cast<size_t>(std::max(1, config_.max_particles / kParticlesPerHypothesis));
+  options.region_xy = config_.kld_bin_xy;
+  options.region_angle = config_.kld_bin_angle;
+  const std::vector<PoseHypothesis> found = search_->search(points, options);
+  // Each hypothesis refined by the scan matcher (sub-cell, between the heading steps).
+  std::vector<Pose2> refined(found.size());
+  const std::vector<MatchPoint> endpoints =
+      slam_.matcher.enabled ? models.matcher.endpoints(scan) : std::vector<MatchPoint>();
+  pool_->run(found.size(), [&](size_t k, int) {
+    refined[k] =
+        endpoints.empty() ? found[k].pose : models.matcher.refine(map_, found[k].pose, endpoints);
+  });
+  stats_.global_search_s += static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
+  ++stats_.global_searches;
+  if (found.empty()) return false;
+  // A particle on each refined hypothesis, the others drawn around them: within σ in position and
+  // σ / (mean range) in heading, where the scan placed the hypothesis before the refinement.
+  const double sigma_theta = sigma / std::max(range_sum / points.size(), map_.resolution());
+  restartFilter();
+  Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
+  const size_t n = static_cast<size_t>(config_.max_particles);
+  particles_.assign(n, LocalizationParticle{Pose2(), 1.0 / static_cast<double>(n)});
+  for (size_t i = 0; i < n; ++i) {
+    const Pose2& h = refined[i % refined.size()];
+    particles_[i].pose = i < refined.size()
+                             ? h
+                             : Pose2(h.x + sigma * rng.gaussian(), h.y + sigma * rng.gaussian(),
+                                     normalizeAngle(h.theta + sigma_theta * rng.gaussian()));
+  }
+  computeEstimate();
+  searching_ = true;
+  seeded_ = true;
   return true;
 }
 
@@ -204,6 +272,7 @@ void Localizer::spreadOverFreeSpace() {
   for (LocalizationParticle& p : particles_) p.pose = randomFreePose(&rng);
   computeEstimate();
   searching_ = true;
+  seeded_ = false;
 }
 
 bool Localizer::onMappedFloor(const Pose2& pose) const {
@@ -253,6 +322,14 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   const uint64_t step = ++step_;
 
   const Models& models = modelsFor(scan);
+  // A global localization's first scan: the particles are drawn where it fits best on the map.
+  if (search_pending_) {
+    search_pending_ = false;
+    if (seedFromSearch(scan, models)) {
+      force_update_ = false;
+      have_odometry_ = true;
+    }
+  }
   // The weighed beams: at most laser_max_beams of the hits, evenly spread. The beam model's log
   // plausibility is scaled up to every hit beam's before the temperature (which is calibrated on
   // whole scans); the field weighs a pose as amcl does (likelihood_field.h), untempered.
@@ -290,13 +367,19 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
 
   // The proposal is the motion model alone (amcl's): a scan match per particle pulls the samples
   // onto the matcher's optimum and cost accuracy while tracking (docs/decisions.md). Only while a
-  // global localization has not found the pose is each sample matched, so that a cloud as sparse
-  // as max_particles over the whole floor reaches the matcher's basin around the true pose.
+  // uniformly spread global localization has not found the pose is each sample matched, so that a
+  // cloud as sparse as max_particles over the whole floor reaches the matcher's basin around the
+  // true pose.
   if (searching_) searching_ = cloudSpread() > slam_.matcher.search_radius;
   // While a global localization searches, the cloud covers unexplored space too, where ignorance
   // must not count as support: never-observed ends weigh r then (docs/decisions.md).
   lookup_options.unobserved_collects = !config_.laser_unobserved_random_only && !searching_;
-  const bool match_each = searching_ && !endpoints.empty();
+  // A cloud drawn around a global search's refined hypotheses already sits where the scan fits:
+  // the beam model's weights single the truth out without a match per sample. amcl's weight
+  // 1 + Σ p³ (likelihood_field) is too flat near an optimum for that: its samples are matched,
+  // which gathers them on the hypotheses' optima (docs/decisions.md).
+  const bool match_each =
+      searching_ && (!seeded_ || config_.likelihoodField()) && !endpoints.empty();
   // The proposal samples the raw odometry's drift (a random walk per metre and radian), not the
   // SLAM's alpha_*, sized for samples after a scan match; the SLAM's floors stay.
   OdometryDrift drift;
@@ -419,7 +502,14 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
       buildFreeCells();
       if (!free_cells_.empty()) {
         trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean});
-        spreadOverFreeSpace();
+        // With global_search, the particles are drawn where this scan fits best and move on
+        // from this odometry; else spread uniformly, the next scan weighed where they are.
+        if (config_.global_search && seedFromSearch(scan, models)) {
+          have_odometry_ = true;
+          force_update_ = false;
+        } else {
+          spreadOverFreeSpace();
+        }
         alarm_.rearm();
         ++stats_.recoveries;
         out.respread = true;

@@ -1,21 +1,23 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
 // only; each update samples the odometry's drift (odom_drift_*, a random walk: sampleDrift) as the
-// proposal (amcl's scheme; after a global localization, until the cloud has narrowed to the scan
-// matcher's search radius, each sample is also scan-matched), weighs the samples on at most
-// laser_max_beams hit beams by laser_model_type's model: beam (the evidential forward model on a
-// BeamLookup built once per map, tempered like the SLAM's weights), beam_traced (the same model ray
-// traced, BeamModel) or likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 +
-// Σ p^3), and never writes the map. Every resample_interval updates (with selective_resampling,
-// only when the effective sample size has dropped below half) the particles are resampled with
-// KLD-sampling, which adapts their number to the spread of the cloud between min_particles and
-// max_particles; with recovery_alpha_slow/_fast, random poses from the map's free space are added
-// when the scans' plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and
-// covariance of the heaviest cluster of particles, its mean refined by one scan match
+// proposal (amcl's scheme; after a uniformly spread global localization, until the cloud has
+// narrowed to the scan matcher's search radius, each sample is also scan-matched), weighs the
+// samples on at most laser_max_beams hit beams by laser_model_type's model: beam (the evidential
+// forward model on a BeamLookup built once per map, tempered like the SLAM's weights), beam_traced
+// (the same model ray traced, BeamModel) or likelihood_field (LikelihoodField, computed once per
+// map; amcl's weight 1 + Σ p^3), and never writes the map. Every resample_interval updates (with
+// selective_resampling, only when the effective sample size has dropped below half) the particles
+// are resampled with KLD-sampling, which adapts their number to the spread of the cloud between
+// min_particles and max_particles; with recovery_alpha_slow/_fast, random poses from the map's free
+// space are added when the scans' plausibility drops (augmented MCL, as amcl). The pose estimate is
+// the mean and covariance of the heaviest cluster of particles, its mean refined by one scan match
 // (scan_matching). The anomaly of every processed scan at the estimate is accumulated against the
 // map (anomaly.h): what changed since the map was made. What that anomaly contradicts feeds the
 // conflict alarm; when it fires (the scans contradict the map far more than while the filter
 // tracked), kidnap_recovery spreads the particles over the free space again, as a global
-// localization.
+// localization. With global_search (the default) both draw the particles around the poses where
+// the scan fits best on the whole map (GlobalSearch, a correlative branch and bound) instead of
+// uniformly: a uniform cloud rarely puts a sample in the scan matcher's basin around the truth.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +39,7 @@
 namespace evidential_slam {
 
 class BeamLookup;
+class GlobalSearch;
 class LikelihoodField;
 class Rng;
 class WorkerPool;
@@ -76,6 +79,8 @@ struct LocalizerStats {
   double lookup_build_s = 0.0;    // its build time (process CPU s)
   uint64_t anomaly_traces = 0;    // updates whose scan was traced for the anomaly
   uint64_t recoveries = 0;        // kidnap_recovery's spreads over the free space
+  uint64_t global_searches = 0;   // correlative searches of a scan over the map (global_search)
+  double global_search_s = 0.0;   // their process CPU time, score grids' build included
 };
 
 class Localizer {
@@ -103,8 +108,9 @@ class Localizer {
   // resetAt with the configured initial_cov_xx, _yy, _aa.
   bool resetAt(const Pose2& pose, std::string* why);
   // Spreads max_particles uniformly over the map's free space (observed cells with BetP(o) <
-  // kFreeSpaceBetP and NS < kFreeSpaceNS) with uniform headings. False (and `why`) when the map
-  // has no free space.
+  // kFreeSpaceBetP and NS < kFreeSpaceNS) with uniform headings; with global_search, the next
+  // scan is then searched for over that free space and the particles are drawn around where it
+  // fits best before it is weighed. False (and `why`) when the map has no free space.
   bool globalLocalization(std::string* why);
   static constexpr double kFreeSpaceBetP = 0.25;
   static constexpr double kFreeSpaceNS = 0.5;
@@ -153,6 +159,10 @@ class Localizer {
   void restartFilter();
   // max_particles poses drawn uniformly from the free space (buildFreeCells first; not empty).
   void spreadOverFreeSpace();
+  // max_particles poses drawn around the best hypotheses of a GlobalSearch of `scan`'s hit beams
+  // (buildFreeCells first; not empty), a Gaussian each; false (nothing changes) when the scan
+  // has no hit beam to search with.
+  bool seedFromSearch(const LaserScan& scan, const Models& models);
 
   LocalizationConfig config_;
   SlamConfig slam_;
@@ -161,9 +171,12 @@ class Localizer {
   bool free_cells_built_ = false;
   std::vector<LocalizationParticle> particles_;
   std::vector<std::unique_ptr<Models>> models_;
-  std::unique_ptr<LikelihoodField> field_;  // built at the first likelihood_field update
-  std::unique_ptr<BeamLookup> lookup_;      // built at the first beam update
+  std::unique_ptr<LikelihoodField> field_;         // built at the first likelihood_field update
+  std::unique_ptr<BeamLookup> lookup_;             // built at the first beam update
   std::unique_ptr<BelievedFreeTiles> free_tiles_;  // for the anomaly, built at the first update
+  std::unique_ptr<GlobalSearch> search_;  // built at the first search (per end uncertainty)
+  // globalLocalization with global_search: the next scan is searched for before it is weighed.
+  bool search_pending_ = false;
   // The rate of short readings (unexpected obstacles) at the estimate, a running mean over
   // updates: the beam model's plausibility of a short reading.
   double short_rate_ = 0.0;
@@ -174,6 +187,8 @@ class Localizer {
   // A global localization whose cloud is still wider than the matcher's search radius: each
   // sample is matched.
   bool searching_ = false;
+  // The searching cloud was drawn around a GlobalSearch's hypotheses (not matched per sample).
+  bool seeded_ = false;
   bool force_update_ = false;
   Pose2 last_update_odometry_;
   Pose2 last_odometry_;
