@@ -98,14 +98,20 @@ void MapFusionNodelet::discover() {
     r.pose = pose;
     r.has_prior = !params_.known_init_poses && has_init_pose;
     r.prior = pose;
-    r.sub = nh_.subscribe<EvidentialGrid>(
-        t.name, 1, [this, robot](const EvidentialGrid::ConstPtr& msg) { onGrid(robot, msg); });
     NODELET_INFO("map_fusion: robot %s (map %s)%s", robot.c_str(), t.name.c_str(),
                  has_pose      ? ""
                  : r.has_prior ? ", pose to be estimated near its init_pose_*"
                                : ", pose to be estimated");
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      robots_.emplace(robot, std::move(r));
+    }
+    // Subscribed once the robot is known: its latched map may arrive at once, on a worker thread
+    // while discover() still runs in onInit, and onGrid drops a map of an unknown robot.
+    ros::Subscriber sub = nh_.subscribe<EvidentialGrid>(
+        t.name, 1, [this, robot](const EvidentialGrid::ConstPtr& msg) { onGrid(robot, msg); });
     std::lock_guard<std::mutex> lock(mutex_);
-    robots_.emplace(robot, std::move(r));
+    robots_.at(robot).sub = std::move(sub);
   }
 }
 
@@ -214,8 +220,11 @@ bool MapFusionNodelet::fuseOnce() {
                      result.conflict);
       } else {
         if (new_reference) r.has_pose = false;  // its pose was in the former reference's frame
-        NODELET_WARN_THROTTLE(10.0, "map_fusion: robot %s not aligned yet: %s", r.name.c_str(),
-                              why.c_str());
+        auto warned = refusal_warned_at_.find(r.name);
+        if (warned == refusal_warned_at_.end() || now.toSec() - warned->second >= 10.0) {
+          refusal_warned_at_[r.name] = now.toSec();
+          NODELET_WARN("map_fusion: robot %s not aligned yet: %s", r.name.c_str(), why.c_str());
+        }
       }
     }
     std::lock_guard<std::mutex> lock(mutex_);

@@ -77,6 +77,9 @@ class MapFusionNodelet : public nodelet::Nodelet {
     size_t cycles = 0, alignments = 0;
     double total_s = 0.0, align_s = 0.0, fuse_s = 0.0, max_s = 0.0;
   } times_;
+  // Wall time of each robot's last "not aligned yet" warning (fusion thread only): throttled per
+  // robot, so that one robot's refusals do not hide another's.
+  std::map<std::string, double> refusal_warned_at_;
   std::thread thread_;
 };
 
