@@ -1,7 +1,10 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
-// only; each update samples the odometry's drift (odom_drift_*, a random walk: sampleDrift) as the
-// proposal (amcl's scheme; after a global localization, until the cloud has narrowed to the scan
-// matcher's search radius, each sample is also scan-matched), weighs the samples on at most
+// (and the share of their last move a failed odometry explains); each update samples the
+// odometry's drift (odom_drift_*, a random walk: sampleDrift), mixed with samples around the
+// scan-matched pose where the scan fits better there than at the odometry's prediction (Mixture
+// MCL, mixture_proposal.h: odom_failure_*, scan_proposal_fraction; after a global localization,
+// until the cloud has narrowed to the scan matcher's search radius, each sample is instead
+// scan-matched), weighs the samples on at most
 // laser_max_beams hit beams by laser_model_type's model: beam (the evidential forward model on a
 // BeamLookup built once per map, tempered like the SLAM's weights), beam_traced (the same model ray
 // traced, BeamModel) or likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 +
@@ -20,6 +23,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +48,9 @@ class WorkerPool;
 struct LocalizationParticle {
   Pose2 pose;
   double weight = 0.0;  // normalised: the particles' weights sum to 1
+  // The odometry failure's share of its last move (the mixture proposal's responsibility): a
+  // failure persists (odom_failure_persistence).
+  double odometry_failed = 0.0;
 };
 
 // What one call of processScan did.
@@ -57,6 +64,8 @@ struct LocalizationUpdate {
   double effective_particles = 0.0;    // N_eff = 1 / Σ w² after the weighing (processed scans)
   double short_rate = 0.0;             // beam: the short readings' rate used for this scan
   size_t random_particles = 0;         // drawn from free space by the recovery at this scan
+  size_t scan_samples = 0;             // drawn around the scan-matched pose by the mixture proposal
+  double failure_share = 0.0;          // the odometry failure's share of the weight at this update
   double anomaly_added_bits = 0.0;     // the anomaly this scan added at the estimate
   double contradiction = 0.0;          // its Σ K (contradictionOf): the conflict alarm's input
   ConflictAlarmState alarm;            // the alarm's verdict (processed scans, not while searching)
@@ -76,6 +85,7 @@ struct LocalizerStats {
   double lookup_build_s = 0.0;    // its build time (process CPU s)
   uint64_t anomaly_traces = 0;    // updates whose scan was traced for the anomaly
   uint64_t recoveries = 0;        // kidnap_recovery's spreads over the free space
+  uint64_t scan_proposals = 0;    // updates whose samples were partly drawn from the scan
 };
 
 class Localizer {
@@ -181,6 +191,8 @@ class Localizer {
   uint64_t step_ = 0;  // random streams: one per update and particle
   uint64_t draws_ = 0;
   double w_slow_ = 0.0, w_fast_ = 0.0;
+  // Where the last update's mixture proposal matched the scan (none after a reset).
+  std::optional<Pose2> last_match_;
   AnomalyGrid anomaly_;
   // Fed with what each scan at the estimate contradicts in the map while the filter tracks: a
   // kidnap or a lost filter makes it fire (kidnap_recovery).
