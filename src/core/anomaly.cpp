@@ -22,8 +22,7 @@ constexpr float kHitMass = 0.35f;
 // wall, held occupied without that confidence while grazing beams clear them and others hit them
 // (m̃(o) >= 1/2 alone flagged the faces of thin walls on clean generated runs).
 constexpr float kMinPassConflict = 0.5f;
-// A scan mass this occupied or more says the scan sees a surface in that cell.
-constexpr float kSurfaceMass = 0.05f;
+constexpr float kSurfaceMass = kScanSurfaceMass;
 
 float bitsOf(float conflict) {
   return static_cast<float>(-std::log2(1.0 - std::min(conflict, kMaxUpdateConflict)));
@@ -76,6 +75,32 @@ void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int 
       out->push_back(AnomalyCell{x, y, bitsOf(k)});
     }
   });
+}
+
+BelievedFreeTiles::BelievedFreeTiles(const EvidentialGridMap& map) {
+  int x1 = 0, y1 = 0;
+  bool any = false;
+  map.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile&) {
+    x0_ = any ? std::min(x0_, tx) : tx;
+    y0_ = any ? std::min(y0_, ty) : ty;
+    x1 = any ? std::max(x1, tx) : tx;
+    y1 = any ? std::max(y1, ty) : ty;
+    any = true;
+  });
+  if (!any) return;
+  width_ = x1 - x0_ + 1;
+  height_ = y1 - y0_ + 1;
+  free_.assign(static_cast<size_t>(width_) * static_cast<size_t>(height_), 0);
+  map.forEachTile([&](int tx, int ty, const EvidentialGridMap::Tile& tile) {
+    for (const Cell& c : tile.cells) {
+      if (!believedFree(c)) return;
+    }
+    free_[static_cast<size_t>(ty - y0_) * static_cast<size_t>(width_) + (tx - x0_)] = 1;
+  });
+}
+
+size_t BelievedFreeTiles::count() const {
+  return static_cast<size_t>(std::count(free_.begin(), free_.end(), uint8_t{1}));
 }
 
 double contradictionOf(const std::vector<AnomalyCell>& cells) {

@@ -161,6 +161,12 @@ CellBox EvidentialGridMap::observedBox() const {
     for (int i = 0; i < tiles_w_; ++i) {
       const Tile* t = tiles_[static_cast<size_t>(j) * tiles_w_ + i].get();
       if (t == nullptr) continue;
+      // A tile within the box found so far cannot widen it.
+      const int x0 = (tile_x0_ + i) * kTileSize, y0 = (tile_y0_ + j) * kTileSize;
+      if (!box.empty() && x0 >= box.min_x && y0 >= box.min_y && x0 + kTileSize - 1 <= box.max_x &&
+          y0 + kTileSize - 1 <= box.max_y) {
+        continue;
+      }
       for (int k = 0; k < kTileCells; ++k) {
         if (!t->cells[k].observed()) continue;
         const int x = (tile_x0_ + i) * kTileSize + (k & (kTileSize - 1));

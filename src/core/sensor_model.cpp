@@ -505,4 +505,73 @@ double BeamModel::weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan
   return log_plausibility;
 }
 
+void BeamModel::accumulateForAnomaly(const Pose2& sensor_in_map, const LaserScan& scan,
+                                     const BelievedFreeTiles& free_tiles,
+                                     ScanAccumulator* scratch) const {
+  const ProfileTimer timer(ProfileSection::kWeighAccumulate);
+  const Eigen::Vector2d origin = sensor_in_map.translation();
+  const int half = windowHalfCells();
+  const CellIndex sensor_cell{static_cast<int>(std::floor(origin.x() / resolution_)),
+                              static_cast<int>(std::floor(origin.y() / resolution_))};
+  scratch->reset(sensor_cell, half);
+  // The tiles kept, over the tiles of the accumulator's window (one more each side).
+  constexpr int kBits = EvidentialGridMap::kTileBits;
+  const int reach = ((half + EvidentialGridMap::kTileSize - 1) >> kBits) + 1;
+  const int side = 2 * reach + 1;
+  const int tx0 = (sensor_cell.x >> kBits) - reach, ty0 = (sensor_cell.y >> kBits) - reach;
+  std::vector<uint8_t> keep(static_cast<size_t>(side) * static_cast<size_t>(side));
+  for (int ty = 0; ty < side; ++ty) {
+    for (int tx = 0; tx < side; ++tx) {
+      keep[static_cast<size_t>(ty) * side + tx] = free_tiles.contains(tx0 + tx, ty0 + ty) ? 0 : 1;
+    }
+  }
+  // Where along a hit beam its occupied mass reaches ε (see the header), s from the hit.
+  const double epsilon =
+      kScanSurfaceMass / (4.0 * static_cast<double>(std::max<size_t>(1, scan.size())));
+  double s_reach = s_max_;
+  for (size_t i = 0; i < inverse_table_.size(); ++i) {
+    if (inverse_table_[i].occupied >= epsilon) {
+      s_reach = s_min_ + (static_cast<double>(i) - 1.0) * table_step_;
+      break;
+    }
+  }
+  uint64_t rays_bad = 0, rays_no_return = 0;
+  forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
+    if (!ray.hit) return;
+    // The tiles of the box around the beam from s_reach before its hit to its end, two cells wider
+    // than the cells the traversal visits there.
+    const double c = std::cos(ray.angle), s = std::sin(ray.angle);
+    const double t0 = std::max(0.0, ray.range + s_reach - 2.0 * resolution_);
+    const double t1 = ray.length + 2.0 * resolution_;
+    const double ax = (origin.x() + t0 * c) / resolution_, ay = (origin.y() + t0 * s) / resolution_;
+    const double bx = (origin.x() + t1 * c) / resolution_, by = (origin.y() + t1 * s) / resolution_;
+    const int x_lo = (static_cast<int>(std::floor(std::min(ax, bx))) - 2) >> kBits;
+    const int x_hi = (static_cast<int>(std::floor(std::max(ax, bx))) + 2) >> kBits;
+    const int y_lo = (static_cast<int>(std::floor(std::min(ay, by))) - 2) >> kBits;
+    const int y_hi = (static_cast<int>(std::floor(std::max(ay, by))) + 2) >> kBits;
+    for (int ty = std::max(y_lo, ty0); ty <= std::min(y_hi, ty0 + side - 1); ++ty) {
+      for (int tx = std::max(x_lo, tx0); tx <= std::min(x_hi, tx0 + side - 1); ++tx) {
+        keep[static_cast<size_t>(ty - ty0) * side + (tx - tx0)] = 1;
+      }
+    }
+  });
+  forEachRay(sensor_in_map, scan, &rays_bad, &rays_no_return, [&](const Ray& ray) {
+    const double z = ray.range;
+    int last_x = std::numeric_limits<int>::min(), last_y = 0;
+    bool kept = true;
+    traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
+      if ((cx >> kBits) != last_x || (cy >> kBits) != last_y) {
+        last_x = cx >> kBits;
+        last_y = cy >> kBits;
+        const int tx = last_x - tx0, ty = last_y - ty0;
+        // Off the window: kept (the accumulator refuses it, as it would).
+        kept = static_cast<unsigned>(tx) >= static_cast<unsigned>(side) ||
+               static_cast<unsigned>(ty) >= static_cast<unsigned>(side) ||
+               keep[static_cast<size_t>(ty) * side + tx] != 0;
+      }
+      if (kept) addEvidence(scratch, cx, cy, d, z, ray.hit);
+    });
+  });
+}
+
 }  // namespace evidential_slam

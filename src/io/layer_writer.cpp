@@ -62,11 +62,11 @@ LayerImageScale scaleOf(const LayerRaster& raster, Layer layer) {
   return scaleFor(layer, lo, hi);
 }
 
-// False (and `error`) when a layer's size does not match the raster's.
-bool checkSizes(const LayerRaster& raster, std::string* error) {
+// False (and `error`) when the layers' sizes (of `layers`, layerBit) do not match the raster's.
+bool checkSizes(const LayerRaster& raster, std::string* error, uint32_t layers = kAllLayers) {
   const size_t cells = static_cast<size_t>(raster.width) * raster.height;
   for (int l = 0; l < kLayerCount; ++l) {
-    if (raster.values[l].size() != cells) {
+    if ((layers & layerBit(static_cast<Layer>(l))) != 0 && raster.values[l].size() != cells) {
       if (error) {
         *error = "layer '" + layerNames()[l] + "' has " + std::to_string(raster.values[l].size()) +
                  " values for a " + std::to_string(raster.width) + "x" +
@@ -130,6 +130,66 @@ uint8_t layerPixel(float value, const LayerImageScale& scale) {
   return static_cast<uint8_t>(std::lround(grey));
 }
 
+namespace {
+
+// Stages one layer's <name>.png and <name>.npy under `base`; their paths go to `written`.
+bool stagePngAndNpy(const LayerRaster& raster, Layer layer, const LayerImageScale& scale,
+                    const std::string& base, AtomicFiles* files, std::vector<std::string>* written,
+                    std::string* error) {
+  const std::vector<float>& v = raster.layer(layer);
+  mrpt::img::CImage img;
+  img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
+  const std::string png = base + layerName(layer) + ".png";
+  if (!stageImage(img, png, files, error)) return false;
+  written->push_back(png);
+
+  const std::string npy = base + layerName(layer) + ".npy";
+  if (!files->add(
+          npy,
+          [&](std::ostream& out) { return writeNpy(out, v.data(), raster.height, raster.width); },
+          error)) {
+    return false;
+  }
+  written->push_back(npy);
+  return true;
+}
+
+// Stages one layer's map_server pair <name>.pgm + <name>.yaml under `base` (writeMapServerLayers).
+bool stageMapServerLayer(const LayerRaster& raster, Layer layer, const LayerImageScale& scale,
+                         const std::string& base, const LayerWriterConfig& config, AtomicFiles* set,
+                         std::vector<std::string>* written, std::string* error) {
+  const std::vector<float>& v = raster.layer(layer);
+  mrpt::img::CImage img;
+  img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
+  const std::string& name = layerName(layer);
+  const std::string pgm = base + name + ".pgm";
+  if (!stageImage(img, pgm, set, error)) return false;
+  written->push_back(pgm);
+
+  const bool pignistic = layer == Layer::kPignistic;
+  const std::string yaml_path = base + name + ".yaml";
+  const bool yaml_ok = set->add(
+      yaml_path,
+      [&](std::ostream& yaml) {
+        yaml << "# evidential_slam layer '" << name << "' for map_server: dark = high value; "
+             << "pixel black = " << fmt(scale.black) << ", white = " << fmt(scale.white) << "\n"
+             << "image: " << name << ".pgm\n"
+             << "resolution: " << fmt(raster.resolution) << "\n"
+             << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
+             << "negate: 0\n"
+             << "mode: " << (pignistic ? "trinary" : "scale") << "\n"
+             << "occupied_thresh: " << fmt(pignistic ? config.occupied_thresh : 1.0) << "\n"
+             << "free_thresh: " << fmt(pignistic ? config.free_thresh : 0.0) << "\n";
+        return static_cast<bool>(yaml);
+      },
+      error);
+  if (!yaml_ok) return false;
+  written->push_back(yaml_path);
+  return true;
+}
+
+}  // namespace
+
 bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerWriterConfig& config,
                  LayerWriteResult* result, std::string* error, AtomicFiles* staged) {
   *result = LayerWriteResult();
@@ -141,25 +201,10 @@ bool writeLayers(const LayerRaster& raster, const std::string& dir, const LayerW
 
   for (int l = 0; l < kLayerCount; ++l) {
     const Layer layer = static_cast<Layer>(l);
-    const std::vector<float>& v = raster.values[l];
     const LayerImageScale scale = scaleOf(raster, layer);
     result->scales[l] = scale;
     if (layer == Layer::kExternalConflict) result->external_conflict_scale = scale.black;
-
-    mrpt::img::CImage img;
-    img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
-    const std::string png = base + layerNames()[l] + ".png";
-    if (!stageImage(img, png, files, error)) return false;
-    result->files.push_back(png);
-
-    const std::string npy = base + layerNames()[l] + ".npy";
-    if (!files->add(
-            npy,
-            [&](std::ostream& out) { return writeNpy(out, v.data(), raster.height, raster.width); },
-            error)) {
-      return false;
-    }
-    result->files.push_back(npy);
+    if (!stagePngAndNpy(raster, layer, scale, base, files, &result->files, error)) return false;
   }
 
   // Composite: a mass in [0, 1] per channel. loadFromMemoryBuffer takes separate R, G, B planes
@@ -244,34 +289,28 @@ bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
   std::vector<std::string> written;
   for (int l = 0; l < kLayerCount; ++l) {
     const Layer layer = static_cast<Layer>(l);
-    const std::vector<float>& v = raster.values[l];
-    const LayerImageScale scale = scaleOf(raster, layer);
-    mrpt::img::CImage img;
-    img.setFromMatrix(northUp(raster, [&](size_t i) { return layerPixel(v[i], scale); }), false);
-    const std::string name = layerNames()[l];
-    const std::string pgm = base + name + ".pgm";
-    if (!stageImage(img, pgm, set, error)) return false;
-    written.push_back(pgm);
+    if (!stageMapServerLayer(raster, layer, scaleOf(raster, layer), base, config, set, &written,
+                             error)) {
+      return false;
+    }
+  }
+  if (!staged && !own.commit(error)) return false;
+  files->insert(files->end(), written.begin(), written.end());
+  return true;
+}
 
-    const bool pignistic = layer == Layer::kPignistic;
-    const std::string yaml_path = base + name + ".yaml";
-    const bool yaml_ok = set->add(
-        yaml_path,
-        [&](std::ostream& yaml) {
-          yaml << "# evidential_slam layer '" << name << "' for map_server: dark = high value; "
-               << "pixel black = " << fmt(scale.black) << ", white = " << fmt(scale.white) << "\n"
-               << "image: " << name << ".pgm\n"
-               << "resolution: " << fmt(raster.resolution) << "\n"
-               << "origin: [" << fmt(raster.origin_x) << ", " << fmt(raster.origin_y) << ", 0.0]\n"
-               << "negate: 0\n"
-               << "mode: " << (pignistic ? "trinary" : "scale") << "\n"
-               << "occupied_thresh: " << fmt(pignistic ? config.occupied_thresh : 1.0) << "\n"
-               << "free_thresh: " << fmt(pignistic ? config.free_thresh : 0.0) << "\n";
-          return static_cast<bool>(yaml);
-        },
-        error);
-    if (!yaml_ok) return false;
-    written.push_back(yaml_path);
+bool writeLayerFiles(const LayerRaster& raster, Layer layer, const std::string& dir,
+                     const LayerWriterConfig& config, std::vector<std::string>* files,
+                     std::string* error, AtomicFiles* staged) {
+  if (!checkSizes(raster, error, layerBit(layer))) return false;
+  AtomicFiles own;
+  AtomicFiles* set = staged ? staged : &own;
+  const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  std::vector<std::string> written;
+  const LayerImageScale scale = scaleOf(raster, layer);
+  if (!stagePngAndNpy(raster, layer, scale, base, set, &written, error) ||
+      !stageMapServerLayer(raster, layer, scale, base, config, set, &written, error)) {
+    return false;
   }
   if (!staged && !own.commit(error)) return false;
   files->insert(files->end(), written.begin(), written.end());

@@ -125,17 +125,29 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
     report->layers_skipped = "layers/ not written: " + report->layers_skipped;
   } else {
     if (!makeDirectory(layers_dir, error)) return false;
-    const LayerRaster raster = extractLayers(map, 10, &save.anomaly);
+    // trajectory.png is drawn over the pignistic layer.
+    const uint32_t wanted = save.anomaly_layer_only
+                                ? layerBit(Layer::kPignistic) | layerBit(Layer::kAnomaly)
+                                : kAllLayers;
+    const LayerRaster raster = extractLayers(map, 10, &save.anomaly, wanted);
     io::LayerWriterConfig layer_config;
     layer_config.occupied_thresh = config.occupied_thresh;
     layer_config.free_thresh = config.free_thresh;
-    io::LayerWriteResult written;
-    if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error, files) ||
-        !io::writeMapServerLayers(raster, layers_dir.string(), layer_config, &report->files, error,
-                                  files)) {
-      return false;
+    if (save.anomaly_layer_only) {
+      if (!io::writeLayerFiles(raster, Layer::kAnomaly, layers_dir.string(), layer_config,
+                               &report->files, error, files)) {
+        return false;
+      }
+    } else {
+      io::LayerWriteResult written;
+      if (!io::writeLayers(raster, layers_dir.string(), layer_config, &written, error, files) ||
+          !io::writeMapServerLayers(raster, layers_dir.string(), layer_config, &report->files,
+                                    error, files)) {
+        return false;
+      }
+      report->files.insert(report->files.end(), written.files.begin(), written.files.end());
+      report->external_conflict_scale = written.external_conflict_scale;
     }
-    report->files.insert(report->files.end(), written.files.begin(), written.files.end());
     io::TrajectoryImage picture;
     picture.path.reserve(save.trajectory.size());
     for (const StampedPose& p : save.trajectory) picture.path.push_back(p.pose);
@@ -146,7 +158,7 @@ bool writeMapFiles(const std::string& dir, const MapSave& save, const SessionCon
     report->files.push_back(png);
     report->map_width = raster.width;
     report->map_height = raster.height;
-    report->external_conflict_scale = written.external_conflict_scale;
+    report->anomaly_layer_only = save.anomaly_layer_only;
   }
 
   if (config.export_octomap) {

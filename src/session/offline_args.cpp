@@ -24,7 +24,7 @@ std::unique_ptr<CommandLine> offlineCommandLine(const std::string& program, Offl
           "       [--preset NAME] [--param NAME=VALUE]... [--particles K] [--seed N]\n"
           "       [--resolution M] [--threads N] [--first-scan N] [--max-scans N]\n"
           "       [--load-map DIR|FILE] [--initial-pose X,Y,YAW] [--laser-label L] [--quiet]\n"
-          "       [--localize-only [--initial-cov XX,YY,AA | --global]]\n"
+          "       [--localize-only [--initial-cov XX,YY,AA | --global] [--all-layers]]\n"
           "       [--profile] [--export-octomap [--octomap-z-min Z] [--octomap-z-max Z]]\n"
           "\n"
           "Evidential FastSLAM on an MRPT rawlog (Actions/SensoryFrame or observation-only).\n"
@@ -98,6 +98,11 @@ std::unique_ptr<CommandLine> offlineCommandLine(const std::string& program, Offl
            "and its covariance per update) and layers/anomaly.* (what\n"
            "contradicts the map); --initial-pose defaults to 0,0,0",
            [o] { o->localize_only = true; });
+  cl->flag("--all-layers",
+           "with --localize-only: also write the stored map's layers\n"
+           "into DIR/layers/ (unchanged: by default only the anomaly\n"
+           "layer, the one the run makes, is written)",
+           [o] { o->all_layers = true; });
   cl->option(
       "--initial-cov", "XX,YY,AA",
       "with --localize-only: the variances (m^2, m^2, rad^2) of\n"
@@ -156,8 +161,10 @@ bool parseOfflineArgs(const std::vector<std::string>& args, OfflineOptions* o, b
   if (o->localize_only && o->load_map.empty()) {
     return bad("--localize-only needs --load-map (the map to localize on)");
   }
-  if (!o->localize_only && (o->global_localization || o->has_initial_covariance)) {
-    return bad(std::string(o->global_localization ? "--global" : "--initial-cov") +
+  if (!o->localize_only && (o->global_localization || o->has_initial_covariance || o->all_layers)) {
+    return bad(std::string(o->global_localization      ? "--global"
+                           : o->has_initial_covariance ? "--initial-cov"
+                                                       : "--all-layers") +
                " needs --localize-only");
   }
   if (o->global_localization && (o->has_initial_pose || o->has_initial_covariance)) {

@@ -402,6 +402,9 @@ int Run::execute() {
   save.info.metadata["first_scan"] = std::to_string(opt_.first_scan);
   save.info.metadata["next_scan"] = std::to_string(opt_.first_scan + given);
   if (!loaded.path.empty()) save.info.metadata["loaded_map"] = loaded.path;
+  // A localization leaves the map as it was: its layers are the mapping run's (--all-layers
+  // writes them again).
+  save.anomaly_layer_only = opt_.localize_only && !opt_.all_layers;
   const std::vector<StampedPose>& best_path = save.trajectory;
 
   if (!truth_.empty()) {
@@ -522,7 +525,10 @@ int Run::execute() {
                  l.real_time_factor, l.real_time_factor_cpu,
                  (out_dir_ / "localization.csv").string().c_str());
   }
-  if (summary_.map_width > 0) {
+  if (summary_.map_width > 0 && files.anomaly_layer_only) {
+    std::fprintf(out_, "layers:     %s/ (%dx%d cells; the anomaly layer: PNG, NPY, PGM)\n",
+                 (out_dir_ / "layers").string().c_str(), summary_.map_width, summary_.map_height);
+  } else if (summary_.map_width > 0) {
     std::fprintf(out_, "layers:     %s/ (%dx%d cells; PNG, NPY, PGM, map.yaml)\n",
                  (out_dir_ / "layers").string().c_str(), summary_.map_width, summary_.map_height);
   } else {

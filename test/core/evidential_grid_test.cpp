@@ -161,6 +161,29 @@ TEST(EvidentialGridTest, AllocatedAndObservedBoxes) {
   EXPECT_EQ(o.height(), 41);
 }
 
+// observedBox passes over tiles inside the box found so far: on scattered observed cells over
+// many tiles (the box widening row after row, interior tiles among them) it equals the box of
+// every observed cell.
+TEST(EvidentialGridTest, ObservedBoxEqualsTheBoxOfEveryObservedCell) {
+  EvidentialGridMap g(0.05);
+  uint64_t state = 7;
+  const auto next = [&](int range) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<int>((state >> 33) % static_cast<uint64_t>(range));
+  };
+  CellBox expected;
+  for (int i = 0; i < 400; ++i) {
+    const int x = next(600) - 300, y = next(500) - 200;
+    g.mutableCell(x, y) = storedCell(0.2f, 0.1f, 0.0f);
+    expected.extend(CellBox{x, y, x, y});
+    const CellBox o = g.observedBox();
+    ASSERT_EQ(o.min_x, expected.min_x) << i;
+    ASSERT_EQ(o.max_x, expected.max_x) << i;
+    ASSERT_EQ(o.min_y, expected.min_y) << i;
+    ASSERT_EQ(o.max_y, expected.max_y) << i;
+  }
+}
+
 // mutableCell without writing allocates but does not observe: a cell that only got a lambda
 // counts as observed (EC is evidence), a merely touched cell does not.
 TEST(EvidentialGridTest, ObservedBoxIgnoresTouchedVacuousCells) {

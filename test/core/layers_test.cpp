@@ -6,10 +6,10 @@
 #include <cmath>
 #include <vector>
 
+#include "cell_support.h"
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/layers.h"
 #include "evidential_slam/core/measures.h"
-#include "cell_support.h"
 
 namespace evidential_slam {
 namespace {
@@ -103,6 +103,29 @@ TEST(LayersTest, ValuesEqualLayerValueOfCells) {
       EXPECT_EQ(r.observed[index], g.cell(cx, cy).observed() ? 1 : 0);
     }
   }
+}
+
+// A subset of the layers: those asked for hold the full extraction's values, the others are empty.
+TEST(LayersTest, SubsetComputesOnlyTheLayersAskedFor) {
+  const EvidentialGridMap g = makeGrid();
+  const CellBox box{0, 1, 6, 5};
+  AnomalyGrid anomaly;
+  anomaly.add(4, 3, 2.5f);
+  const LayerRaster all = extractLayers(g, box, &anomaly);
+  const LayerRaster some =
+      extractLayers(g, box, &anomaly, layerBit(Layer::kPignistic) | layerBit(Layer::kAnomaly));
+  EXPECT_EQ(some.width, 7);
+  EXPECT_EQ(some.height, 5);
+  EXPECT_EQ(some.observed, all.observed);
+  for (int l = 0; l < kLayerCount; ++l) {
+    const Layer layer = static_cast<Layer>(l);
+    if (layer == Layer::kPignistic || layer == Layer::kAnomaly) {
+      EXPECT_EQ(some.values[l], all.values[l]) << layerName(layer);
+    } else {
+      EXPECT_TRUE(some.values[l].empty()) << layerName(layer);
+    }
+  }
+  EXPECT_FLOAT_EQ(some.layer(Layer::kAnomaly)[(3 - 1) * 7 + 4], 2.5f);
 }
 
 // Margin form: observed box x [2,5], y [2,3]; margin 1 -> x [1,6], y [1,4]: width 6, height 4,

@@ -91,6 +91,13 @@ TEST(OfflineArgs, LocalizeOnlyOptions) {
   EXPECT_DOUBLE_EQ(o.initial_covariance[1], 0.25);
   EXPECT_DOUBLE_EQ(o.initial_covariance[2], 0.1);
   EXPECT_EQ(o.params.localization.max_particles, 800);
+  EXPECT_FALSE(o.all_layers);
+  OfflineOptions a;
+  ASSERT_TRUE(
+      parse({"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--all-layers"},
+            &a, &error))
+      << error;
+  EXPECT_TRUE(a.all_layers);
   OfflineOptions g;
   ASSERT_TRUE(parse({"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m",
                      "--global"},
@@ -283,6 +290,7 @@ TEST(OfflineArgs, BadUsageHasOneLineErrors) {
       {"--rawlog", "a", "--out", "b", "--localize-only=1", "--load-map", "m"},
       {"--rawlog", "a", "--out", "b", "--load-map", "m", "--global"},  // not --localize-only
       {"--rawlog", "a", "--out", "b", "--load-map", "m", "--initial-cov", "1,1,1"},
+      {"--rawlog", "a", "--out", "b", "--load-map", "m", "--all-layers"},  // not --localize-only
       {"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--global",
        "--initial-pose", "1,2,0"},
       {"--rawlog", "a", "--out", "b", "--localize-only", "--load-map", "m", "--initial-cov", "1,1"},

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -637,22 +638,55 @@ std::pair<double, double> positionError(const std::vector<StampedPose>& path,
   return {n > 0 ? std::sqrt(sum / n) : 0.0, worst};
 }
 
+// The names of the files in `dir`, sorted.
+std::vector<std::string> fileNames(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 // --localize-only: the fixture mapped, then its observation-only twin localized on that map from
-// the map frame's origin: the pose follows the SLAM's path, every output is written, the map
+// the map frame's origin: the pose follows the SLAM's path, every output is written (layers/: the
+// anomaly layer only; with --all-layers every layer, the same anomaly files among them), the map
 // file is the stored map unchanged, and localization.csv holds one row per update.
 TEST_F(OfflineE2E, LocalizesOnAMapOfTheFixture) {
-  const fs::path map = scratch_ / "map", out = scratch_ / "loc";
+  const fs::path map = scratch_ / "map", out = scratch_ / "loc", all = scratch_ / "loc_all";
   Result r = runOffline(concat({"--rawlog", dataPath("sim.rawlog"), "--out", map.string()}, kFast),
                         scratch_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = runOffline({"--rawlog", dataPath("sim_obs.rawlog"), "--out", out.string(), "--preset", "sim",
-                  "--threads", "2", "--localize-only", "--load-map", map.string(), "--initial-cov",
-                  "0.01,0.01,0.003", "--ground-truth", dataPath("sim.GT.txt")},
-                 scratch_);
+  const std::vector<std::string> localize = {"--rawlog",
+                                             dataPath("sim_obs.rawlog"),
+                                             "--preset",
+                                             "sim",
+                                             "--threads",
+                                             "2",
+                                             "--localize-only",
+                                             "--load-map",
+                                             map.string(),
+                                             "--initial-cov",
+                                             "0.01,0.01,0.003",
+                                             "--ground-truth",
+                                             dataPath("sim.GT.txt")};
+  r = runOffline(concat(localize, {"--out", out.string()}), scratch_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("localized:"), std::string::npos) << r.out;
-  checkOutputs(out, kFixtureScans);
-  EXPECT_TRUE(fs::is_regular_file(out / "layers" / "anomaly.npy"));
+  EXPECT_NE(r.out.find("the anomaly layer"), std::string::npos) << r.out;
+  const std::vector<std::string> anomaly_only = {"anomaly.npy", "anomaly.pgm", "anomaly.png",
+                                                 "anomaly.yaml"};
+  EXPECT_EQ(fileNames(out / "layers"), anomaly_only);
+  EXPECT_TRUE(fs::is_regular_file(out / "trajectory.png"));
+  EXPECT_TRUE(fs::is_regular_file(out / "map.evmap"));
+  EXPECT_TRUE(fs::is_regular_file(out / "trajectory.tum"));
+  r = runOffline(concat(localize, {"--out", all.string(), "--all-layers"}), scratch_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  checkOutputs(all, kFixtureScans);
+  for (const std::string& name : anomaly_only) {
+    EXPECT_EQ(test::readText(out / "layers" / name), test::readText(all / "layers" / name)) << name;
+  }
+  EXPECT_EQ(test::readText(out / "trajectory.tum"), test::readText(all / "trajectory.tum"));
 
   const auto [rmse, worst] = positionError(trajectoryOf(out), trajectoryOf(map));
   EXPECT_LT(rmse, 0.05);   // measured 0.033 m

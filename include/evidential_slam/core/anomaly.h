@@ -30,6 +30,10 @@ namespace evidential_slam {
 
 class ScanAccumulator;
 
+// A scan's fused mass this occupied or more says the scan sees a surface in that cell (a pass
+// through an obstacle next to such a cell is no anomaly: scanAnomaly).
+constexpr float kScanSurfaceMass = 0.05f;
+
 // One cell's anomaly from one scan.
 struct AnomalyCell {
   int x = 0;
@@ -41,6 +45,29 @@ struct AnomalyCell {
 // `map`, with neighbourhoods `radius` cells around each cell (BeamModel::openSpaceRadius()).
 void scanAnomaly(const ScanAccumulator& scan, const EvidentialGridMap& map, int radius,
                  std::vector<AnomalyCell>* out);
+
+// The tiles of a map all of whose cells the map believes free (m̃(e) > m̃(o)). scanAnomaly reads
+// a scan's mass only on cells the map does not believe free and on cells the scan's hits put
+// occupied mass on: BeamModel::accumulateForAnomaly leaves out the rest of these tiles.
+class BelievedFreeTiles {
+ public:
+  BelievedFreeTiles() = default;
+  explicit BelievedFreeTiles(const EvidentialGridMap& map);
+  // False for a tile the map does not hold (never observed).
+  bool contains(int tile_x, int tile_y) const {
+    const int x = tile_x - x0_, y = tile_y - y0_;
+    if (static_cast<unsigned>(x) >= static_cast<unsigned>(width_) ||
+        static_cast<unsigned>(y) >= static_cast<unsigned>(height_)) {
+      return false;
+    }
+    return free_[static_cast<size_t>(y) * static_cast<size_t>(width_) + x] != 0;
+  }
+  size_t count() const;
+
+ private:
+  int x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;  // the allocated tiles' box
+  std::vector<uint8_t> free_;
+};
 
 // Σ K over `cells` (K = 1 - 2^-bits): how many cells' confident evidence one scan contradicted,
 // each weighted by how strongly (conflict.csv's contradiction_added).

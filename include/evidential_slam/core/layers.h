@@ -25,12 +25,17 @@ struct LayerRaster {
   const std::vector<float>& layer(Layer l) const { return values[static_cast<int>(l)]; }
 };
 
+// A set of layers: a bit per Layer.
+constexpr uint32_t layerBit(Layer layer) { return uint32_t{1} << static_cast<int>(layer); }
+constexpr uint32_t kAllLayers = (uint32_t{1} << kLayerCount) - 1;
+
 // Rasterises the observed part of `grid` plus `margin_cells` of vacuous border on each side. The
-// anomaly layer comes from `anomaly` (0 everywhere without it).
+// anomaly layer comes from `anomaly` (0 everywhere without it). Only the layers in `layers` are
+// computed; the others' rasters are left empty.
 LayerRaster extractLayers(const EvidentialGridMap& grid, int margin_cells = 10,
-                          const AnomalyGrid* anomaly = nullptr);
+                          const AnomalyGrid* anomaly = nullptr, uint32_t layers = kAllLayers);
 // Rasterises an explicit box.
 LayerRaster extractLayers(const EvidentialGridMap& grid, const CellBox& box,
-                          const AnomalyGrid* anomaly = nullptr);
+                          const AnomalyGrid* anomaly = nullptr, uint32_t layers = kAllLayers);
 
 }  // namespace evidential_slam

@@ -235,6 +235,14 @@ class BeamModel {
   double weighAndAccumulate(const Pose2& sensor_in_map, const LaserScan& scan,
                             const EvidentialGridMap& map, ScanAccumulator* scratch,
                             int stride) const;
+  // The scan's evidence in `scratch` for its anomaly (scanAnomaly) alone: as weighAndAccumulate
+  // leaves it on every cell of a tile that holds a cell the map does not believe free (not in
+  // `free_tiles`) or that a hit beam's occupied mass reaches; the other tiles get none. A cell of
+  // those others can add to the anomaly only through a fused m(o) of at least kScanSurfaceMass,
+  // and masses below ε = kScanSurfaceMass / (4 N) from each of a scan's N rays fuse to at most
+  // N ε / (1 - N ε) < kScanSurfaceMass / 2. The cells kept get the same masses in the same order.
+  void accumulateForAnomaly(const Pose2& sensor_in_map, const LaserScan& scan,
+                            const BelievedFreeTiles& free_tiles, ScanAccumulator* scratch) const;
   // applyScan: applies the evidence in `scratch` to `map` (the map it was accumulated on);
   // returns the EC added (bits) and, if asked, the conflict measures (ScanConflict).
   double applyScan(const ScanAccumulator& scratch, EvidentialGridMap* map,

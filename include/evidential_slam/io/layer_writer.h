@@ -61,5 +61,12 @@ bool writeMapServerLayers(const LayerRaster& raster, const std::string& dir,
                           const LayerWriterConfig& config, std::vector<std::string>* files,
                           std::string* error, AtomicFiles* staged = nullptr);
 
+// Writes one layer's files: <name>.png and <name>.npy as writeLayers does, <name>.pgm and
+// <name>.yaml as writeMapServerLayers does (the same bytes); only that layer of `raster` is read.
+// Written like writeLayers' files; their paths are appended to `files`.
+bool writeLayerFiles(const LayerRaster& raster, Layer layer, const std::string& dir,
+                     const LayerWriterConfig& config, std::vector<std::string>* files,
+                     std::string* error, AtomicFiles* staged = nullptr);
+
 }  // namespace io
 }  // namespace evidential_slam

@@ -10,7 +10,8 @@
 //   layers/          (when the observed box fits max_layer_cells) every layer as <name>.png +
 //   <name>.npy (writeLayers) and as a map_server pair
 //                    <name>.pgm + <name>.yaml (writeMapServerLayers), with composite.png,
-//                    observed.npy and map.yaml (map_server metadata of pignistic.png)
+//                    observed.npy and map.yaml (map_server metadata of pignistic.png); with
+//                    MapSave::anomaly_layer_only, the anomaly layer's four files only
 //   octomap/         map.evidential.ot, map.bt, map.color.ot, when export_octomap is set
 #pragma once
 
@@ -49,6 +50,7 @@ struct MapFilesReport {
   // Why layers/ was not written (the observed box exceeds max_layer_cells); empty when it was.
   std::string layers_skipped;
   double external_conflict_scale = 0.0;  // EC drawn black in layers/external_conflict.png
+  bool anomaly_layer_only = false;       // layers/ got the anomaly layer only (MapSave's)
   std::optional<OctomapFilesReport> octomap;
 };
 
@@ -65,6 +67,9 @@ struct MapSave {
   // aligned as the ATE aligns it) and a caption (the ATE); set by the caller, empty by default.
   std::vector<Pose2> reference_path;
   std::string trajectory_caption;
+  // layers/ holds only the anomaly layer (its four files), not the map's: for a localization's
+  // output, whose map is the stored one, unchanged (its layers are those of the run that made it).
+  bool anomaly_layer_only = false;
 };
 
 // The best particle's map, anomaly, path and pose, the odometry pose with it, the conflict record,

@@ -51,6 +51,8 @@ struct OfflineOptions {
   bool global_localization = false;
   bool has_initial_covariance = false;  // --initial-cov XX,YY,AA (variances: m², m², rad²)
   double initial_covariance[3] = {0.0, 0.0, 0.0};
+  // --all-layers: a localization's layers/ holds the stored map's layers too, not only the anomaly.
+  bool all_layers = false;
   bool quiet = false;        // no progress line, no per-scan warnings
   bool profile = false;      // --profile: time the update's sections (profile.h)
   double ate_max_dt = 0.05;  // s, timestamp association window for the ATE

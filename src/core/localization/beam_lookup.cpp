@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "evidential_slam/core/localization/distance_transform.h"
 #include "evidential_slam/core/measures.h"
@@ -92,12 +93,13 @@ BeamLookup::BeamLookup(const EvidentialGridMap& map, bool conflict_as_unknown)
       conflict_as_unknown_(conflict_as_unknown) {
   if (box_.empty()) throw std::invalid_argument("BeamLookup: the map has no observed cell");
   const int w = box_.width(), h = box_.height();
-  cells_.resize(static_cast<size_t>(w) * static_cast<size_t>(h));
-  std::vector<uint8_t> opaque(cells_.size(), 0), uncertain(cells_.size(), 0);
+  // Filled cell by cell (not value-initialised first: one pass over the largest array).
+  cells_.reserve(static_cast<size_t>(w) * static_cast<size_t>(h));
+  std::vector<uint8_t> opaque(cells_.capacity(), 0), uncertain(cells_.capacity(), 0);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const Cell& c = map.cell(box_.min_x + x, box_.min_y + y);
-      CellMasses& m = cells_[static_cast<size_t>(y) * w + x];
+      CellMasses& m = cells_.emplace_back();
       double mo = c.occupied(), mu = c.unknown();
       if (conflict_as_unknown_ && c.conflicted()) {  // as ForwardPass::visit
         const double keep = c.oneMinusConflict();
@@ -117,15 +119,12 @@ BeamLookup::BeamLookup(const EvidentialGridMap& map, bool conflict_as_unknown)
           m.observed == 0 || m.occupied >= kCertain || m.unknown >= kCertain ? 1 : 0;
     }
   }
-  // Distances in whole cells, saturated at 255 (a jump of 12 m at 5 cm cells).
-  const auto saturated = [](const std::vector<float>& squared, std::vector<uint8_t>* out) {
-    out->resize(squared.size());
-    for (size_t i = 0; i < squared.size(); ++i) {
-      (*out)[i] = static_cast<uint8_t>(std::min(255.0f, std::floor(std::sqrt(squared[i]))));
-    }
-  };
-  saturated(squaredDistanceTransform(opaque, w, h), &opaque_distance_);
-  saturated(squaredDistanceTransform(uncertain, w, h), &uncertain_distance_);
+  // Distances in whole cells, saturated at 255 (a jump of 12 m at 5 cm cells), over the seeds.
+  std::vector<float> scratch;
+  saturatedDistanceTransform(&opaque, w, h, &scratch);
+  saturatedDistanceTransform(&uncertain, w, h, &scratch);
+  opaque_distance_ = std::move(opaque);
+  uncertain_distance_ = std::move(uncertain);
   // Off the box every cell is vacuous (uncertain): no jump may leave it unseen.
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {

@@ -1,6 +1,7 @@
 #include "evidential_slam/core/localization/distance_transform.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -80,6 +81,50 @@ std::vector<float> squaredDistanceTransform(const std::vector<uint8_t>& seeds, i
   std::vector<float> out(w * h);
   for (size_t i = 0; i < out.size(); ++i) out[i] = static_cast<float>(grid[i]);
   return out;
+}
+
+void saturatedDistanceTransform(std::vector<uint8_t>* grid, int width, int height,
+                                std::vector<float>* scratch) {
+  if (width < 0 || height < 0 ||
+      grid->size() != static_cast<size_t>(width) * static_cast<size_t>(height)) {
+    throw std::invalid_argument("saturatedDistanceTransform: the grid is not width x height");
+  }
+  // Squared distances are capped at kCap > 255^2: a cap on the row pass leaves every column
+  // result below it exact (each term f + dy^2 of the minimum is at least min(its true value, the
+  // cap)), and every one at or above it still saturates. Every value then is an integer below
+  // 2^24, exact in a float.
+  constexpr float kCap = 65536.0f;
+  const size_t w = static_cast<size_t>(width), h = static_cast<size_t>(height);
+  scratch->resize(w * h);
+  // Rows: the squared distance to the nearest seed of the row, from a sweep each way.
+  for (size_t y = 0; y < h; ++y) {
+    const uint8_t* seeds = grid->data() + y * w;
+    float* row = scratch->data() + y * w;
+    long last = -1;
+    for (size_t x = 0; x < w; ++x) {
+      if (seeds[x] != 0) last = static_cast<long>(x);
+      const double dx = last < 0 ? kInf : static_cast<double>(static_cast<long>(x) - last);
+      row[x] = static_cast<float>(std::min<double>(kCap, dx * dx));
+    }
+    last = -1;
+    for (size_t x = w; x-- > 0;) {
+      if (seeds[x] != 0) last = static_cast<long>(x);
+      if (last < 0) continue;
+      const double dx = static_cast<double>(last - static_cast<long>(x));
+      row[x] = std::min(row[x], static_cast<float>(std::min<double>(kCap, dx * dx)));
+    }
+  }
+  // Columns: the lower envelope of the rows' parabolas, then the saturated whole distance.
+  std::vector<int> v;
+  std::vector<double> z;
+  std::vector<double> f(h), d(h);
+  for (size_t x = 0; x < w; ++x) {
+    for (size_t y = 0; y < h; ++y) f[y] = (*scratch)[y * w + x];
+    transform1d(f.data(), height, d.data(), &v, &z);
+    for (size_t y = 0; y < h; ++y) {
+      (*grid)[y * w + x] = static_cast<uint8_t>(std::min(255.0, std::floor(std::sqrt(d[y]))));
+    }
+  }
 }
 
 }  // namespace evidential_slam

@@ -85,6 +85,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   free_cells_built_ = false;
   field_.reset();
   lookup_.reset();
+  free_tiles_.reset();
   short_rate_ = 0.0;
   particles_.clear();
   anomaly_.clear();
@@ -489,11 +490,12 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
                                   ? out.particles
                                   : std::min(stats_.min_particles_used, out.particles);
 
-  // What this scan contradicts in the map, at the estimate.
-  // (weighAndAccumulate: the accumulateScan of traceScan in one traversal, storing no cells.)
+  // What this scan contradicts in the map, at the estimate: its evidence on the cells that can
+  // add to the anomaly only (the map's tiles believed free are built once per map).
   Workspace& ws = *workspaces_.front();
-  models.beam.weighAndAccumulate(estimate_.mean.compose(scan.sensor_pose), scan, map_,
-                                 &ws.accumulator, std::numeric_limits<int>::max());
+  if (!free_tiles_) free_tiles_ = std::make_unique<BelievedFreeTiles>(map_);
+  models.beam.accumulateForAnomaly(estimate_.mean.compose(scan.sensor_pose), scan, *free_tiles_,
+                                   &ws.accumulator);
   std::vector<AnomalyCell> cells;
   scanAnomaly(ws.accumulator, map_, models.beam.openSpaceRadius(), &cells);
   for (const AnomalyCell& c : cells) out.anomaly_added_bits += c.bits;

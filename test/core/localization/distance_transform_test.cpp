@@ -1,6 +1,8 @@
 // The exact Euclidean distance transform (core/localization) against hand-computed distances.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -44,6 +46,56 @@ TEST(DistanceTransform, OneSeedNoSeedAndBadSizes) {
   EXPECT_TRUE(squaredDistanceTransform({}, 0, 0).empty());
   EXPECT_THROW(squaredDistanceTransform(std::vector<uint8_t>(5, 0), 2, 3), std::invalid_argument);
   EXPECT_THROW(squaredDistanceTransform({}, -1, 0), std::invalid_argument);
+}
+
+// The saturated whole-cell distance against the hand-computed squared ones: (0, 0) of the 3 x 6
+// grid is sqrt(26) = 5.1 cells from the seed, (2, 2) sqrt(10) = 3.2; no seed: 255 everywhere.
+TEST(DistanceTransform, SaturatedByHand) {
+  std::vector<uint8_t> grid(3 * 6, 0);
+  grid[5 * 3 + 1] = 1;
+  std::vector<float> scratch;
+  saturatedDistanceTransform(&grid, 3, 6, &scratch);
+  EXPECT_EQ(grid[0], 5);
+  EXPECT_EQ(grid[2 * 3 + 2], 3);
+  EXPECT_EQ(grid[5 * 3 + 1], 0);
+  EXPECT_EQ(grid[5 * 3 + 0], 1);
+  std::vector<uint8_t> none(6, 0);
+  saturatedDistanceTransform(&none, 2, 3, &scratch);
+  for (uint8_t v : none) EXPECT_EQ(v, 255);
+  EXPECT_THROW(saturatedDistanceTransform(&none, 4, 3, &scratch), std::invalid_argument);
+}
+
+// On grids whose distances reach past the saturation (700 cells long, one seed at an end), and on
+// random seeds, the saturated transform equals floor(sqrt) of the squared one, capped.
+TEST(DistanceTransform, SaturatedEqualsTheSquaredOnesFloorCapped) {
+  uint64_t state = 12345;
+  const auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<uint32_t>(state >> 33);
+  };
+  std::vector<float> scratch;
+  const int sizes[][2] = {{700, 40}, {40, 700}, {300, 300}, {1, 500}};
+  for (const auto& size : sizes) {
+    const int w = size[0], h = size[1];
+    for (const uint32_t per_mille : {0u, 1u, 10u, 300u}) {
+      std::vector<uint8_t> seeds(static_cast<size_t>(w) * h, 0);
+      for (uint8_t& s : seeds) s = next() % 1000 < per_mille ? 1 : 0;
+      if (per_mille == 0u) seeds[static_cast<size_t>(h / 2) * w] = 1;  // one, at x = 0
+      const std::vector<float> squared = squaredDistanceTransform(seeds, w, h);
+      std::vector<uint8_t> grid = seeds;
+      saturatedDistanceTransform(&grid, w, h, &scratch);
+      size_t differ = 0, saturated = 0;
+      for (size_t i = 0; i < grid.size(); ++i) {
+        const float expected = std::min(255.0f, std::floor(std::sqrt(squared[i])));
+        differ += grid[i] != static_cast<uint8_t>(expected);
+        saturated += grid[i] == 255;
+      }
+      EXPECT_EQ(differ, 0u) << w << " x " << h << ", " << per_mille << " per mille";
+      if (per_mille == 0u && std::max(w, h) >= 700) {
+        EXPECT_GT(saturated, 0u) << w << " x " << h;
+      }
+    }
+  }
 }
 
 }  // namespace

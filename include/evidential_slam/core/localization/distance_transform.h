@@ -14,4 +14,12 @@ namespace evidential_slam {
 std::vector<float> squaredDistanceTransform(const std::vector<uint8_t>& seeds, int width,
                                             int height);
 
+// The distance in whole cells (the floor of the Euclidean distance) from each cell to the nearest
+// seed (a non-zero entry), saturated at 255, written over `grid` in place (255 everywhere when
+// there is no seed): floor(sqrt(squaredDistanceTransform)) capped at 255, in a quarter of its
+// memory (a float per cell, in `scratch`, reused across calls). Throws std::invalid_argument as
+// squaredDistanceTransform.
+void saturatedDistanceTransform(std::vector<uint8_t>* grid, int width, int height,
+                                std::vector<float>* scratch);
+
 }  // namespace evidential_slam

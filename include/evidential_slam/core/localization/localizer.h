@@ -173,6 +173,7 @@ class Localizer {
   std::vector<std::unique_ptr<Models>> models_;
   std::unique_ptr<LikelihoodField> field_;  // built at the first likelihood_field update
   std::unique_ptr<BeamLookup> lookup_;      // built at the first beam update
+  std::unique_ptr<BelievedFreeTiles> free_tiles_;  // for the anomaly, built at the first update
   // The rate of short readings (unexpected obstacles) at the estimate, a running mean over
   // updates: the beam model's plausibility of a short reading.
   double short_rate_ = 0.0;
