@@ -351,16 +351,16 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     particles_[k].pose = pose;
   });
   // Mixture MCL (mixture_proposal.h): the motion model is a mixture of the drift and a failed
-  // increment, whose rate follows the failure's share of the last update's weight (failures
+  // increment, whose rate per particle follows the failure's share of its last move (failures
   // persist). Where the scan, matched from the odometry's prediction of the estimate or from the
-  // estimate itself, puts the robot outside that prediction's spread and explains the scan better
-  // there, a fraction of the samples is drawn around the matched pose. Every sample is weighed by
-  // target over proposal.
+  // last update's match, explains the scan better than the prediction, samples are drawn around
+  // the matched pose too. Every sample is weighed by target over proposal.
   std::vector<double> log_factor, failure_share;
   if (mixture) {
     const Pose2 predicted = estimate_.mean.compose(increment);
     Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
     rotation.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(estimate_.mean.theta).toRotationMatrix();
+    // The scan-drawn samples' spread: the estimate's covariance plus one increment's drift.
     const Eigen::Matrix3d spread =
         estimate_.covariance +
         rotation * MixtureProposal::driftCovariance(increment, drift) * rotation.transpose();
@@ -446,7 +446,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     p.weight /= sum;
     sum_sq += p.weight * p.weight;
   }
-  // The failure's share of this update's weight: the next update's failure rate follows it.
+  // Each particle's failure share of its move: its failure rate at the next update follows it.
   if (!failure_share.empty()) {
     for (size_t k = 0; k < n; ++k) {
       particles_[k].odometry_failed = failure_share[k];
