@@ -5,14 +5,17 @@
 #include <ctime>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include "evidential_slam/core/localization/beam_lookup.h"
 #include "evidential_slam/core/localization/global_search.h"
 #include "evidential_slam/core/localization/kld_sampling.h"
 #include "evidential_slam/core/localization/likelihood_field.h"
+#include "evidential_slam/core/localization/mixture_proposal.h"
 #include "evidential_slam/core/measures.h"
 #include "evidential_slam/core/motion_model.h"
 #include "evidential_slam/core/parameters.h"
@@ -36,6 +39,8 @@ bool finite(const Pose2& p) {
 // Random streams of the localizer (Rng::forStream's first index), apart from the updates' (the
 // update count).
 constexpr uint64_t kDrawStream = 0x4C4F43414C495A45ull;
+// The mixture proposal's draws (plus the update count), apart from both.
+constexpr uint64_t kMixtureStream = 0x4D49585455524521ull;
 // The short readings' rate is a running mean with this weight on the newest update (about the
 // last ten updates: a crowd that comes or goes is followed within a few metres).
 constexpr double kShortRateWeight = 0.1;
@@ -104,6 +109,7 @@ void Localizer::restartFilter() {
   force_update_ = true;
   updates_since_resample_ = 0;
   w_slow_ = w_fast_ = 0.0;
+  last_match_.reset();
 }
 
 bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& slam,
@@ -136,8 +142,16 @@ void Localizer::drawKld(size_t max, Draw&& draw) {
   size_t limit = min;
   std::vector<LocalizationParticle> next;
   while (next.size() < std::max(limit, size_t{1})) {
-    const Pose2 pose = draw();
-    next.push_back(LocalizationParticle{pose, 0.0});
+    // `draw` gives a pose, or a particle (its odometry failure carried through a resampling).
+    LocalizationParticle drawn;
+    auto d = draw();
+    if constexpr (std::is_same_v<decltype(d), LocalizationParticle>) {
+      drawn = d;
+    } else {
+      drawn.pose = d;
+    }
+    next.push_back(drawn);
+    const Pose2& pose = drawn.pose;
     if (bins.insert(pose)) {
       limit = std::min(max, kldSampleLimit(bins.count(), config_.kld_err, config_.kld_z, min, max));
     }
@@ -390,28 +404,99 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   drift.min_sigma_xy = slam_.motion.min_sigma_xy;
   drift.min_sigma_theta = slam_.motion.min_sigma_theta;
   const size_t n = particles_.size();
-  std::vector<double> log_pl(n, 0.0), log_weight(n, 0.0);
-  std::vector<char> on_map(n, 0);
+  // A pose's log plausibility per the model, and its log weight (tempered, or amcl's).
+  const auto weigh = [&](const Pose2& pose, double* log_weight) {
+    const Pose2 sensor = pose.compose(weighed.sensor_pose);
+    if (field != nullptr) {
+      const FieldScore score = field->score(sensor, weighed, config_.laser_sigma_hit,
+                                            config_.laser_z_hit, config_.laser_z_rand);
+      *log_weight = std::log(score.amcl_weight);
+      return score.log_likelihood;
+    }
+    const double pl = lookup != nullptr
+                          ? lookup->logPlausibility(models.beam, sensor, weighed, lookup_options)
+                          : models.beam.logPlausibility(map_, sensor, weighed, 1);
+    *log_weight = exponent * pl;
+    return pl;
+  };
+  const bool mixture = moved && !match_each && !endpoints.empty() && used > 0.0 &&
+                       config_.odom_failure_rate > 0.0 && config_.scan_proposal_fraction > 0.0;
+  std::vector<Pose2> previous;
+  if (mixture) {
+    previous.reserve(n);
+    for (const LocalizationParticle& p : particles_) previous.push_back(p.pose);
+  }
   pool_->run(n, [&](size_t k, int) {
     Rng rng = Rng::forStream(slam_.seed, step, k);
     Pose2 pose =
         moved ? sampleDrift(particles_[k].pose, increment, drift, &rng) : particles_[k].pose;
     if (match_each) pose = models.matcher.refine(map_, pose, endpoints);
     particles_[k].pose = pose;
+  });
+  // Mixture MCL (mixture_proposal.h): the motion model is a mixture of the drift and a failed
+  // increment, whose rate per particle follows the failure's share of its last move (failures
+  // persist). Where the scan, matched from the odometry's prediction of the estimate or from the
+  // last update's match, explains the scan better than the prediction, samples are drawn around
+  // the matched pose too. Every sample is weighed by target over proposal.
+  std::vector<double> log_factor, failure_share;
+  if (mixture) {
+    const Pose2 predicted = estimate_.mean.compose(increment);
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    rotation.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(estimate_.mean.theta).toRotationMatrix();
+    // The scan-drawn samples' spread: the estimate's covariance plus one increment's drift.
+    const Eigen::Matrix3d spread =
+        estimate_.covariance +
+        rotation * MixtureProposal::driftCovariance(increment, drift) * rotation.transpose();
+    // Matched from the odometry's prediction and from where the last update's match put the robot
+    // (the estimate after a reset), where a failed increment leaves it; the one that explains the
+    // scan better.
+    Pose2 matched = models.matcher.refine(map_, predicted, endpoints);
+    const Pose2 unmoved =
+        models.matcher.refine(map_, last_match_ ? *last_match_ : estimate_.mean, endpoints);
+    double w_matched = 0.0, w_unmoved = 0.0, w_predicted = 0.0;
+    weigh(matched, &w_matched);
+    weigh(unmoved, &w_unmoved);
+    weigh(predicted, &w_predicted);
+    if (w_unmoved > w_matched) {
+      matched = unmoved;
+      w_matched = w_unmoved;
+    }
+    const bool failed = w_matched > w_predicted;
+    // A particle's odometry fails at odom_failure_rate, or at odom_failure_persistence after a
+    // failure (its share of the particle's last move).
+    const auto rate = [&](size_t k) {
+      const double f = particles_[k].odometry_failed;
+      return config_.odom_failure_persistence * f + config_.odom_failure_rate * (1.0 - f);
+    };
+    const MixtureProposal proposal(increment, drift, config_.update_min_d, matched, spread);
+    log_factor.assign(n, 0.0);
+    failure_share.assign(n, 0.0);
+    std::vector<char> from_scan(n, 0);
+    pool_->run(n, [&](size_t k, int) {
+      // A particle whose odometry is believed failed draws from the scan at least that often.
+      const double fraction = failed ? std::max(config_.scan_proposal_fraction, rate(k)) : 0.0;
+      if (fraction > 0.0) {
+        Rng rng = Rng::forStream(slam_.seed, kMixtureStream + step, k);
+        if (rng.uniform() < fraction) {
+          particles_[k].pose = proposal.sampleScan(&rng);
+          from_scan[k] = 1;
+        }
+      }
+      log_factor[k] = proposal.logWeightFactor(previous[k], particles_[k].pose, rate(k), fraction);
+      failure_share[k] = proposal.failureShare(previous[k], particles_[k].pose, rate(k));
+    });
+    for (char f : from_scan) out.scan_samples += f != 0 ? 1 : 0;
+    last_match_ = matched;
+    if (failed) ++stats_.scan_proposals;
+  }
+  std::vector<double> log_pl(n, 0.0), log_weight(n, 0.0);
+  std::vector<char> on_map(n, 0);
+  pool_->run(n, [&](size_t k, int) {
+    const Pose2& pose = particles_[k].pose;
     on_map[k] = onMappedFloor(pose) ? 1 : 0;
     if (used > 0.0) {
-      const Pose2 sensor = pose.compose(weighed.sensor_pose);
-      if (field != nullptr) {
-        const FieldScore score = field->score(sensor, weighed, config_.laser_sigma_hit,
-                                              config_.laser_z_hit, config_.laser_z_rand);
-        log_pl[k] = score.log_likelihood;
-        log_weight[k] = std::log(score.amcl_weight);
-      } else {
-        log_pl[k] = lookup != nullptr
-                        ? lookup->logPlausibility(models.beam, sensor, weighed, lookup_options)
-                        : models.beam.logPlausibility(map_, sensor, weighed, 1);
-        log_weight[k] = exponent * log_pl[k];
-      }
+      log_pl[k] = weigh(pose, &log_weight[k]);
+      if (!log_factor.empty()) log_weight[k] += log_factor[k];
     }
   });
 
@@ -443,6 +528,13 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   for (LocalizationParticle& p : particles_) {
     p.weight /= sum;
     sum_sq += p.weight * p.weight;
+  }
+  // Each particle's failure share of its move: its failure rate at the next update follows it.
+  if (!failure_share.empty()) {
+    for (size_t k = 0; k < n; ++k) {
+      particles_[k].odometry_failed = failure_share[k];
+      out.failure_share += particles_[k].weight * failure_share[k];
+    }
   }
   out.effective_particles = sum_sq > 0.0 ? 1.0 / sum_sq : 0.0;
   out.mean_log_plausibility = mean_pl;
@@ -544,12 +636,14 @@ void Localizer::resample(LocalizationUpdate* update) {
   drawKld(static_cast<size_t>(config_.max_particles), [&] {
     if (random_fraction > 0.0 && rng.uniform() < random_fraction) {
       ++random;
-      return randomFreePose(&rng);
+      LocalizationParticle p;
+      p.pose = randomFreePose(&rng);
+      return p;
     }
     const double u = rng.uniform() * total;
     const size_t i = static_cast<size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) -
                                          cumulative.begin());
-    return previous[std::min(i, previous.size() - 1)].pose;
+    return previous[std::min(i, previous.size() - 1)];
   });
   if (random_fraction > 0.0) w_slow_ = w_fast_ = 0.0;  // as amcl: do not spiral into randomness
   ++stats_.resamplings;

@@ -1,27 +1,31 @@
 // Monte Carlo localization on a fixed evidential map (mode localization): particles carry a pose
-// only; each update samples the odometry's drift (odom_drift_*, a random walk: sampleDrift) as the
-// proposal (amcl's scheme; after a uniformly spread global localization, until the cloud has
-// narrowed to the scan matcher's search radius, each sample is also scan-matched), weighs the
-// samples on at most laser_max_beams hit beams by laser_model_type's model: beam (the evidential
-// forward model on a BeamLookup built once per map, tempered like the SLAM's weights), beam_traced
-// (the same model ray traced, BeamModel) or likelihood_field (LikelihoodField, computed once per
-// map; amcl's weight 1 + Σ p^3), and never writes the map. Every resample_interval updates (with
-// selective_resampling, only when the effective sample size has dropped below half) the particles
-// are resampled with KLD-sampling, which adapts their number to the spread of the cloud between
-// min_particles and max_particles; with recovery_alpha_slow/_fast, random poses from the map's free
-// space are added when the scans' plausibility drops (augmented MCL, as amcl). The pose estimate is
-// the mean and covariance of the heaviest cluster of particles, its mean refined by one scan match
-// (scan_matching). The anomaly of every processed scan at the estimate is accumulated against the
-// map (anomaly.h): what changed since the map was made. What that anomaly contradicts feeds the
-// conflict alarm; when it fires (the scans contradict the map far more than while the filter
-// tracked), kidnap_recovery spreads the particles over the free space again, as a global
-// localization. With global_search (the default) both draw the particles around the poses where
-// the scan fits best on the whole map (GlobalSearch, a correlative branch and bound) instead of
-// uniformly: a uniform cloud rarely puts a sample in the scan matcher's basin around the truth.
+// (and the share of their last move a failed odometry explains); each update samples the
+// odometry's drift (odom_drift_*, a random walk: sampleDrift), mixed with samples around the
+// scan-matched pose where the scan fits better there than at the odometry's prediction (Mixture
+// MCL, mixture_proposal.h: odom_failure_*, scan_proposal_fraction; after a uniformly spread global
+// localization, until the cloud has narrowed to the scan matcher's search radius, each sample is
+// instead scan-matched), weighs the samples on at most laser_max_beams hit beams by
+// laser_model_type's model: beam (the evidential forward model on a BeamLookup built once per map,
+// tempered like the SLAM's weights), beam_traced (the same model ray traced, BeamModel) or
+// likelihood_field (LikelihoodField, computed once per map; amcl's weight 1 + Σ p^3), and never
+// writes the map. Every resample_interval updates (with selective_resampling, only when the
+// effective sample size has dropped below half) the particles are resampled with KLD-sampling,
+// which adapts their number to the spread of the cloud between min_particles and max_particles;
+// with recovery_alpha_slow/_fast, random poses from the map's free space are added when the scans'
+// plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
+// heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly of
+// every processed scan at the estimate is accumulated against the map (anomaly.h): what changed
+// since the map was made. What that anomaly contradicts feeds the conflict alarm; when it fires
+// (the scans contradict the map far more than while the filter tracked), kidnap_recovery spreads
+// the particles over the free space again, as a global localization. With global_search (the
+// default) both draw the particles around the poses where the scan fits best on the whole map
+// (GlobalSearch, a correlative branch and bound) instead of uniformly: a uniform cloud rarely puts
+// a sample in the scan matcher's basin around the truth.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +51,9 @@ class WorkerPool;
 struct LocalizationParticle {
   Pose2 pose;
   double weight = 0.0;  // normalised: the particles' weights sum to 1
+  // The odometry failure's share of its last move (the mixture proposal's responsibility): a
+  // failure persists (odom_failure_persistence).
+  double odometry_failed = 0.0;
 };
 
 // What one call of processScan did.
@@ -60,6 +67,8 @@ struct LocalizationUpdate {
   double effective_particles = 0.0;    // N_eff = 1 / Σ w² after the weighing (processed scans)
   double short_rate = 0.0;             // beam: the short readings' rate used for this scan
   size_t random_particles = 0;         // drawn from free space by the recovery at this scan
+  size_t scan_samples = 0;             // drawn around the scan-matched pose by the mixture proposal
+  double failure_share = 0.0;          // the odometry failure's share of the weight at this update
   double anomaly_added_bits = 0.0;     // the anomaly this scan added at the estimate
   double contradiction = 0.0;          // its Σ K (contradictionOf): the conflict alarm's input
   ConflictAlarmState alarm;            // the alarm's verdict (processed scans, not while searching)
@@ -81,6 +90,7 @@ struct LocalizerStats {
   uint64_t recoveries = 0;        // kidnap_recovery's spreads over the free space
   uint64_t global_searches = 0;   // correlative searches of a scan over the map (global_search)
   double global_search_s = 0.0;   // their process CPU time, score grids' build included
+  uint64_t scan_proposals = 0;    // updates whose samples were partly drawn from the scan
 };
 
 class Localizer {
@@ -197,6 +207,8 @@ class Localizer {
   uint64_t step_ = 0;  // random streams: one per update and particle
   uint64_t draws_ = 0;
   double w_slow_ = 0.0, w_fast_ = 0.0;
+  // Where the last update's mixture proposal matched the scan (none after a reset).
+  std::optional<Pose2> last_match_;
   AnomalyGrid anomaly_;
   // Fed with what each scan at the estimate contradicts in the map while the filter tracks: a
   // kidnap or a lost filter makes it fire (kidnap_recovery).
