@@ -203,9 +203,10 @@ TEST(Localizer, LikelihoodFieldConvergesFromASpreadStartAndTracks) {
 
 // Global localization in the asymmetric room: max_particles over its free space (then drawn where
 // the first scan fits: global_search), the estimate on the truth within a few updates, and the
-// cloud shrinks as KLD-sampling asks: below 600 particles from update `shrunk_by` on, within
-// `converged_bins` bins at the end.
-void globalLocalization(const std::string& model, size_t shrunk_by, size_t converged_bins) {
+// cloud shrinks as KLD-sampling asks: below `shrunk_below` particles from update `shrunk_by` on,
+// within `converged_bins` bins at the end.
+void globalLocalization(const std::string& model, size_t shrunk_by, size_t converged_bins,
+                        size_t shrunk_below = 600) {
   LocalizationConfig c = localizationConfig(model);
   c.max_particles = 2000;
   Localizer loc(c, slamConfig());
@@ -228,7 +229,7 @@ void globalLocalization(const std::string& model, size_t shrunk_by, size_t conve
       EXPECT_LT(distance(loc.estimate().mean, inMap(r.truth[i])), 0.05) << i;
     }
     if (i >= shrunk_by) {
-      EXPECT_LT(loc.particles().size(), 600u) << i;
+      EXPECT_LT(loc.particles().size(), shrunk_below) << i;
     }
   }
   EXPECT_LE(loc.particles().size(), kldSampleLimit(converged_bins, 0.01, 0.99, 50, 2000));
@@ -242,8 +243,10 @@ TEST(Localizer, GlobalLocalizationInAnAsymmetricRoom) {
 // amcl's weight bounds what one scan can single out (at most 1 + 30 p^3 against 1 over 30 beams),
 // so the cloud of 2000 takes a few updates more to shrink; converged, it is about 0.1 m wide, twice
 // the bins (as LikelihoodFieldConvergesFromASpreadStartAndTracks).
+// The mixture proposal's samples around the scan match (scan_proposal_fraction) add to that width
+// where the match scores the scan above the prediction: up to 651 particles (beam: below 600).
 TEST(Localizer, LikelihoodFieldGlobalLocalizationInAnAsymmetricRoom) {
-  globalLocalization("likelihood_field", 8, 16);
+  globalLocalization("likelihood_field", 8, 16, 800);
 }
 
 // Global localization with few particles: the errors of the estimate along a route, from
