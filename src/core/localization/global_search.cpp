@@ -71,6 +71,22 @@ struct Node {
   int score;
 };
 
+// One level of a max pyramid over a width x height raster: each cell the largest of `below` at
+// its own cell and the cells `half` to its right, above, and both (0 past the raster's edge).
+void maxPool(const std::vector<uint8_t>& below, int width, int height, int half,
+             std::vector<uint8_t>* level) {
+  const auto get = [&](int x, int y) -> uint8_t {
+    return x < width && y < height ? below[static_cast<size_t>(y) * width + x] : 0;
+  };
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      (*level)[static_cast<size_t>(y) * width + x] =
+          std::max(std::max(get(x, y), get(x + half, y)),
+                   std::max(get(x, y + half), get(x + half, y + half)));
+    }
+  }
+}
+
 }  // namespace
 
 GlobalSearch::GlobalSearch(const EvidentialGridMap& map, double sigma,
@@ -100,32 +116,13 @@ GlobalSearch::GlobalSearch(const EvidentialGridMap& map, double sigma,
     const int x = c.x - box_.min_x, y = c.y - box_.min_y;
     if (x >= 0 && y >= 0 && x < w && y < h) free_[0][static_cast<size_t>(y) * w + x] = 1;
   }
-  // Level k from level k - 1: the max over the four 2^(k-1) squares of its 2^k square.
+  // Level k from level k - 1: the max over the four 2^(k-1) squares of its 2^k square (for the
+  // free flags, 0 or 1, whether any of them holds a free cell).
   for (int k = 1; k < kLevels; ++k) {
     const int half = 1 << (k - 1);
-    const std::vector<uint8_t>& below = levels_[static_cast<size_t>(k - 1)];
-    std::vector<uint8_t>& level = levels_[static_cast<size_t>(k)];
-    const auto get = [&](int px, int py) -> uint8_t {
-      return px < width_ && py < height_ ? below[static_cast<size_t>(py) * width_ + px] : 0;
-    };
-    for (int py = 0; py < height_; ++py) {
-      for (int px = 0; px < width_; ++px) {
-        level[static_cast<size_t>(py) * width_ + px] =
-            std::max(std::max(get(px, py), get(px + half, py)),
-                     std::max(get(px, py + half), get(px + half, py + half)));
-      }
-    }
-    const std::vector<uint8_t>& free_below = free_[static_cast<size_t>(k - 1)];
-    std::vector<uint8_t>& free = free_[static_cast<size_t>(k)];
-    const auto free_get = [&](int x, int y) -> uint8_t {
-      return x < w && y < h ? free_below[static_cast<size_t>(y) * w + x] : 0;
-    };
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        free[static_cast<size_t>(y) * w + x] = free_get(x, y) | free_get(x + half, y) |
-                                               free_get(x, y + half) | free_get(x + half, y + half);
-      }
-    }
+    maxPool(levels_[static_cast<size_t>(k - 1)], width_, height_, half,
+            &levels_[static_cast<size_t>(k)]);
+    maxPool(free_[static_cast<size_t>(k - 1)], w, h, half, &free_[static_cast<size_t>(k)]);
   }
 }
 
