@@ -5,14 +5,10 @@
 #include <cstdio>
 #include <vector>
 
-#include <ros/master.h>
-#include <xmlrpcpp/XmlRpcValue.h>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "evidential_slam/core/fusion/alignment.h"
-#include "evidential_slam/core/fusion/layer_map.h"
 #include "evidential_slam/core/fusion/map_fusion.h"
-#include "evidential_slam/ros/conversions.h"
 #include "evidential_slam/ros/parameter_text.h"
 
 namespace evidential_slam {
@@ -62,80 +58,6 @@ void MapFusionNodelet::onInit() {
                                          }
                                          wake_.notify_one();
                                        });
-}
-
-void MapFusionNodelet::discover() {
-  ros::master::V_TopicInfo topics;
-  if (!ros::master::getTopics(topics)) return;
-  const std::string own_grid = private_nh_.resolveName("grid");
-  for (const ros::master::TopicInfo& t : topics) {
-    if (t.datatype != "evidential_slam/EvidentialGrid" || t.name == own_grid) continue;
-    if (t.name.find(params_.robot_namespace) == std::string::npos) continue;
-    // <robot>/<robot_map_topic>: the robot is what precedes the suffix.
-    const std::string suffix = "/" + params_.robot_map_topic;
-    if (t.name.size() <= suffix.size() ||
-        t.name.compare(t.name.size() - suffix.size(), suffix.size(), suffix) != 0) {
-      continue;
-    }
-    const std::string robot = t.name.substr(0, t.name.size() - suffix.size());
-    Pose2 pose;
-    const bool has_init_pose = readInitPose(robot, &pose);
-    const bool has_pose = params_.known_init_poses && has_init_pose;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (robots_.count(robot) != 0) continue;
-    }
-    if (params_.known_init_poses && !has_pose) {
-      NODELET_WARN_THROTTLE(10.0,
-                            "map_fusion: no initial pose for robot %s: set %s/map_merge/"
-                            "init_pose_x, _y, _z and _yaw (or known_init_poses: false)",
-                            robot.c_str(), robot.c_str());
-      continue;
-    }
-    Robot r;
-    r.name = robot;
-    r.has_pose = has_pose;
-    r.pose = pose;
-    r.has_prior = !params_.known_init_poses && has_init_pose;
-    r.prior = pose;
-    NODELET_INFO("map_fusion: robot %s (map %s)%s", robot.c_str(), t.name.c_str(),
-                 has_pose      ? ""
-                 : r.has_prior ? ", pose to be estimated near its init_pose_*"
-                               : ", pose to be estimated");
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      robots_.emplace(robot, std::move(r));
-    }
-    // Subscribed once the robot is known: its latched map may arrive at once, on a worker thread
-    // while discover() still runs in onInit, and onGrid drops a map of an unknown robot.
-    ros::Subscriber sub = nh_.subscribe<EvidentialGrid>(
-        t.name, 1, [this, robot](const EvidentialGrid::ConstPtr& msg) { onGrid(robot, msg); });
-    std::lock_guard<std::mutex> lock(mutex_);
-    robots_.at(robot).sub = std::move(sub);
-  }
-}
-
-void MapFusionNodelet::onGrid(const std::string& robot, const EvidentialGrid::ConstPtr& msg) {
-  LayerRaster raster;
-  Pose2 frame, offset;
-  std::string why;
-  auto map = std::make_shared<EvidentialGridMap>();
-  if (!layerRasterFromMsg(*msg, &raster, &frame, &why) ||
-      !fusion::mapFromLayers(raster, map.get(), &offset, &why)) {
-    NODELET_WARN_THROTTLE(5.0, "map_fusion: robot %s: map ignored: %s", robot.c_str(), why.c_str());
-    return;
-  }
-  std::lock_guard<std::mutex> lock(mutex_);
-  auto it = robots_.find(robot);
-  if (it == robots_.end()) return;
-  if (it->second.map && std::abs(map->resolution() - it->second.map->resolution()) > 1e-9) {
-    it->second.has_pose = it->second.has_pose && params_.known_init_poses;
-  }
-  it->second.map = std::move(map);
-  it->second.grid_frame = frame.compose(offset);
-  it->second.stamp = msg->header.stamp.toSec();
-  ++it->second.version;
-  ++changes_;
 }
 
 void MapFusionNodelet::run() {

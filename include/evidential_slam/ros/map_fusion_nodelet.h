@@ -37,8 +37,10 @@ class MapFusionNodelet : public nodelet::Nodelet {
   struct Robot {
     std::string name;  // its namespace, e.g. /robot1
     ros::Subscriber sub;
-    bool has_pose = false;  // known or estimated
-    Pose2 pose;             // its map frame in world_frame
+    ros::WallTime subscribed_at;
+    double patience_s = 0.0;  // how long to wait for its first map before subscribing again
+    bool has_pose = false;    // known or estimated
+    Pose2 pose;               // its map frame in world_frame
     // Estimating (known_init_poses false): map_merge's init_pose_* when set, a prior that bounds
     // the search and breaks ties (AlignmentConfig::prior).
     bool has_prior = false;
@@ -53,6 +55,8 @@ class MapFusionNodelet : public nodelet::Nodelet {
 
   void onInit() override;
   void discover();
+  // Subscribes to a robot's map; the robot must be in robots_ (onGrid drops unknown robots' maps).
+  void subscribe(const std::string& robot, const std::string& topic);
   void onGrid(const std::string& robot, const EvidentialGrid::ConstPtr& msg);
   void run();
   bool fuseOnce();
