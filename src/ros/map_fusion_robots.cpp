@@ -1,6 +1,4 @@
 // The map fusion nodelet's robots: finding their maps on the master, subscribing, receiving.
-#include <algorithm>
-
 #include <ros/master.h>
 
 #include "evidential_slam/core/fusion/layer_map.h"
@@ -9,13 +7,6 @@
 
 namespace evidential_slam {
 namespace ros_adapter {
-namespace {
-// How long a robot's map subscription may stay without a map from a publisher the master lists
-// before it is made again (a latched map normally arrives within a second), and the longest wait.
-constexpr double kConnectionPatienceS = 5.0;
-constexpr double kMaxConnectionPatienceS = 120.0;
-}  // namespace
-
 void MapFusionNodelet::discover() {
   ros::master::V_TopicInfo topics;
   if (!ros::master::getTopics(topics)) return;
@@ -36,12 +27,12 @@ void MapFusionNodelet::discover() {
       if (known != robots_.end()) {
         // No map yet from a publisher the master lists: its latched map may have been lost on the
         // way (seen on a busy machine: a subscription that never delivers); subscribing again
-        // gets it. The wait doubles each time, for a robot that has not published yet.
+        // gets it (map_wait.h).
         Robot& r = known->second;
-        const double waited = (ros::WallTime::now() - r.subscribed_at).toSec();
-        const bool stalled = !r.map && waited > r.patience_s;
+        const double now = ros::WallTime::now().toSec();
+        const bool stalled = r.map_wait.resubscribeDue(now, r.map != nullptr);
+        const double waited = r.map_wait.waitedSince(now);
         const int publishers = stalled ? static_cast<int>(r.sub.getNumPublishers()) : 0;
-        if (stalled) r.patience_s = std::min(2.0 * r.patience_s, kMaxConnectionPatienceS);
         lock.unlock();
         if (stalled) {
           NODELET_WARN(
@@ -65,7 +56,6 @@ void MapFusionNodelet::discover() {
     }
     Robot r;
     r.name = robot;
-    r.patience_s = kConnectionPatienceS;
     r.has_pose = has_pose;
     r.pose = pose;
     r.has_prior = !params_.known_init_poses && has_init_pose;
@@ -96,7 +86,7 @@ void MapFusionNodelet::subscribe(const std::string& robot, const std::string& to
       topic, 1, [this, robot](const EvidentialGrid::ConstPtr& msg) { onGrid(robot, msg); });
   std::lock_guard<std::mutex> lock(mutex_);
   robots_.at(robot).sub = std::move(sub);
-  robots_.at(robot).subscribed_at = ros::WallTime::now();
+  robots_.at(robot).map_wait.subscribed(ros::WallTime::now().toSec());
 }
 
 void MapFusionNodelet::onGrid(const std::string& robot, const EvidentialGrid::ConstPtr& msg) {

@@ -24,6 +24,7 @@
 #include "evidential_slam/core/pose2.h"
 #include "evidential_slam/ros/map_fusion_params.h"
 #include "evidential_slam/ros/map_publisher.h"
+#include "evidential_slam/ros/map_wait.h"
 
 namespace evidential_slam {
 namespace ros_adapter {
@@ -37,10 +38,9 @@ class MapFusionNodelet : public nodelet::Nodelet {
   struct Robot {
     std::string name;  // its namespace, e.g. /robot1
     ros::Subscriber sub;
-    ros::WallTime subscribed_at;
-    double patience_s = 0.0;  // how long to wait for its first map before subscribing again
-    bool has_pose = false;    // known or estimated
-    Pose2 pose;               // its map frame in world_frame
+    MapWait map_wait{5.0, 120.0};  // seconds; subscribing again to a map that does not arrive
+    bool has_pose = false;         // known or estimated
+    Pose2 pose;                    // its map frame in world_frame
     // Estimating (known_init_poses false): map_merge's init_pose_* when set, a prior that bounds
     // the search and breaks ties (AlignmentConfig::prior).
     bool has_prior = false;
