@@ -364,12 +364,13 @@ TEST(Localizer, ShortReadingsRateFollowsAnUnexpectedObstacle) {
 // while its odometry goes on as if it had made one ordinary step, then drives on from there.
 // Returns the error of the estimate at each scan after the kidnap.
 std::vector<double> kidnapped(const LocalizationConfig& c, int* respread_at = nullptr,
-                              uint64_t seed = slamConfig().seed) {
+                              uint64_t seed = slamConfig().seed, int kidnap_at = 70,
+                              const ConflictAlarmConfig& alarm = ConflictAlarmConfig(),
+                              int* kidnap_alarm_at = nullptr) {
   SlamConfig slam = slamConfig();
   slam.seed = seed;
-  Localizer loc(c, slam);
+  Localizer loc(c, slam, alarm);
   EXPECT_TRUE(loc.setMap(roomMap(), nullptr));
-  const int kidnap_at = 70;
   const Route before = route(kidnap_at);
   const Pose2 last = before.truth.back();
   Pose2 carried;
@@ -400,6 +401,9 @@ std::vector<double> kidnapped(const LocalizationConfig& c, int* respread_at = nu
     if (u.respread && respread_at != nullptr && *respread_at < 0) {
       *respread_at = static_cast<int>(i);
     }
+    if (u.kidnap_alarm.rising && kidnap_alarm_at != nullptr && *kidnap_alarm_at < 0) {
+      *kidnap_alarm_at = static_cast<int>(i);
+    }
     errors.push_back(distance(loc.estimate().mean, inMap(after.truth[i])));
   }
   return errors;
@@ -422,6 +426,35 @@ TEST(Localizer, KidnapIsDetectedAndRecovered) {
   c.kidnap_recovery = false;
   respread_at = -1;
   const std::vector<double> lost = kidnapped(c, &respread_at);
+  EXPECT_EQ(respread_at, -1);
+  EXPECT_GT(lost[20], 0.5);
+}
+
+// The kidnap alarm alone (the conflict alarm off, as where a noisy laser contradicts nothing
+// confident), 20 updates after the start: its baseline began at the first updates (the cloud
+// started narrow), so it is armed; the scans at the particles fall far below the baseline's
+// plausibility, the alarm fires within 3 scans and the estimate is back on the truth by 20 scans.
+// With the threshold out of reach (1000 envelopes) nothing fires and the filter
+// stays lost.
+TEST(Localizer, KidnapAlarmOnPlausibilityDetectsAnEarlyKidnap) {
+  ConflictAlarmConfig off;
+  off.enabled = false;
+  LocalizationConfig c = localizationConfig();
+  c.max_particles = 2000;
+  c.kidnap_recovery = true;
+  int respread_at = -1, alarm_at = -1;
+  const std::vector<double> errors =
+      kidnapped(c, &respread_at, slamConfig().seed, 20, off, &alarm_at);
+  EXPECT_GE(alarm_at, 0);
+  EXPECT_LE(alarm_at, 3);
+  EXPECT_EQ(respread_at, alarm_at);
+  for (size_t i = 20; i < errors.size(); ++i) EXPECT_LT(errors[i], 0.1) << i;
+
+  c.kidnap_alarm_factor = 1000.0;
+  respread_at = alarm_at = -1;
+  const std::vector<double> lost =
+      kidnapped(c, &respread_at, slamConfig().seed, 20, off, &alarm_at);
+  EXPECT_EQ(alarm_at, -1);
   EXPECT_EQ(respread_at, -1);
   EXPECT_GT(lost[20], 0.5);
 }
