@@ -100,6 +100,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   anomaly_.clear();
   alarm_.reset();
   kidnap_alarm_.reset();
+  prediction_gate_.reset();
   trajectory_.clear();
   stats_ = LocalizerStats{};
   restartFilter();
@@ -114,6 +115,7 @@ void Localizer::restartFilter() {
   updates_since_resample_ = 0;
   w_slow_ = w_fast_ = 0.0;
   last_match_.reset();
+  last_kidnap_ratio_ = 0.0;
 }
 
 bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& slam,
@@ -187,6 +189,7 @@ bool Localizer::resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, st
   restartFilter();
   alarm_.reset();  // a new start: the scans before it (perhaps lost) are no baseline
   kidnap_alarm_.reset();
+  prediction_gate_.reset();
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   drawKld(static_cast<size_t>(config_.max_particles), [&] {
     const Eigen::Vector3d d =
@@ -220,6 +223,7 @@ bool Localizer::globalLocalization(std::string* why) {
   if (free_cells_.empty()) return refuse(why, "the map has no free space to spread particles on");
   alarm_.reset();
   kidnap_alarm_.reset();
+  prediction_gate_.reset();
   spreadOverFreeSpace();
   search_pending_ = config_.global_search;
   return true;
@@ -454,21 +458,33 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     const Eigen::Matrix3d spread =
         estimate_.covariance +
         rotation * MixtureProposal::driftCovariance(increment, drift) * rotation.transpose();
-    // Matched from the odometry's prediction and from where the last update's match put the robot
-    // (the estimate after a reset), where a failed increment leaves it; the one that explains the
-    // scan better.
-    Pose2 matched = models.matcher.refine(map_, predicted, endpoints);
-    const Pose2 unmoved =
-        models.matcher.refine(map_, last_match_ ? *last_match_ : estimate_.mean, endpoints);
-    double w_matched = 0.0, w_unmoved = 0.0, w_predicted = 0.0;
-    weigh(matched, &w_matched);
-    weigh(unmoved, &w_unmoved);
-    weigh(predicted, &w_predicted);
-    if (w_unmoved > w_matched) {
-      matched = unmoved;
-      w_matched = w_unmoved;
+    // The odometry's prediction explains the scan as well as at the recent updates (no worse than
+    // the deepest of their falls below their median: prediction_gate_) and the last scan was as
+    // plausible under the cloud as usual (the kidnap alarm's ratio at most 1): the odometry did
+    // not fail, and the scan is not matched. Otherwise (or while the gate's baseline is short),
+    // matched from the prediction and from where the last update's match put the robot (the
+    // estimate after a reset), where a failed increment leaves it; the one that explains the scan
+    // better.
+    double w_predicted = 0.0;
+    const double pl_predicted = weigh(predicted, &w_predicted) / used;
+    const PlausibilityAlarmState gate =
+        prediction_gate_.update(pl_predicted, cloudSpread() <= slam_.matcher.search_radius);
+    Pose2 matched = predicted;
+    bool failed = false;
+    if (!gate.armed || gate.below || last_kidnap_ratio_ > 1.0) {
+      matched = models.matcher.refine(map_, predicted, endpoints);
+      const Pose2 unmoved =
+          models.matcher.refine(map_, last_match_ ? *last_match_ : estimate_.mean, endpoints);
+      double w_matched = 0.0, w_unmoved = 0.0;
+      weigh(matched, &w_matched);
+      weigh(unmoved, &w_unmoved);
+      if (w_unmoved > w_matched) {
+        matched = unmoved;
+        w_matched = w_unmoved;
+      }
+      failed = w_matched > w_predicted;
+      ++stats_.proposal_matches;
     }
-    const bool failed = w_matched > w_predicted;
     // A particle's odometry fails at odom_failure_rate, or at odom_failure_persistence after a
     // failure (its share of the particle's last move).
     const auto rate = [&](size_t k) {
@@ -619,6 +635,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
       out.kidnap_alarm =
           kidnap_alarm_.update(out.log_evidence, cloudSpread() <= slam_.matcher.search_radius);
     }
+    last_kidnap_ratio_ = out.kidnap_alarm.ratio;
     if (out.kidnap_alarm.rising && config_.kidnap_recovery) {
       buildFreeCells();
       if (!free_cells_.empty()) {

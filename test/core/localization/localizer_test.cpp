@@ -533,18 +533,21 @@ TEST(Localizer, TracksOdometryThatSlipsInTurns) {
 // freiburg-079's raw odometry does for 0.7 m), for `reversed` updates of 0.12 m, then right again:
 // the errors of the estimate (position, m) after each update. The drift proposal's along-track σ
 // is √(0.006 · 0.12) = 0.027 m per update, 9 σ short of the 0.24 m each reversed update misses by.
-std::vector<double> errorsWithReversedOdometry(const LocalizationConfig& c, int reversed) {
+std::vector<double> errorsWithReversedOdometry(const LocalizationConfig& c, int reversed,
+                                               int from = 8, int updates = 22,
+                                               std::vector<uint64_t>* matches = nullptr) {
   Localizer loc(c, slamConfig());
   EXPECT_TRUE(loc.setMap(roomMap(), nullptr));
   Pose2 truth(-1.3, -0.5, 0.0), odometry(5.0, 3.0, -1.0);
   EXPECT_TRUE(loc.resetAt(inMap(truth), Eigen::Matrix3d::Identity() * 1e-4, nullptr));
   std::vector<double> errors;
-  for (int i = 0; i < 22; ++i) {
+  for (int i = 0; i < updates; ++i) {
     const LocalizationUpdate u =
         loc.processScan(odometry, blockRoomScan(truth, 1.0 + 0.1 * i, true));
     EXPECT_TRUE(u.processed);
     errors.push_back(distance(loc.estimate().mean, inMap(truth)));
-    const bool backing = i >= 8 && i < 8 + reversed;
+    if (matches != nullptr) matches->push_back(loc.stats().proposal_matches);
+    const bool backing = i >= from && i < from + reversed;
     truth = truth.compose(Pose2(backing ? -0.12 : 0.12, 0.0, 0.0));
     odometry = odometry.compose(Pose2(0.12, 0.0, 0.0));
   }
@@ -572,6 +575,25 @@ TEST(Localizer, MixtureProposalKeepsTracking) {
   c.odom_failure_rate = 0.0;
   const std::vector<double> drift = errorsWithReversedOdometry(c, 0);
   EXPECT_LT(*std::max_element(drift.begin(), drift.end()), 0.05);
+}
+
+// The mixture proposal matches the scan only where the odometry's prediction explains it worse
+// than at any recent update (or the last scan was less plausible than usual): not while the
+// odometry is right once the gate's baseline holds 10 updates, but at the reversed updates, where
+// it still tracks.
+TEST(Localizer, MixtureProposalMatchesOnlyWhereThePredictionFalls) {
+  const LocalizationConfig c = localizationConfig();
+  std::vector<uint64_t> matches;
+  const std::vector<double> right = errorsWithReversedOdometry(c, 0, 16, 24, &matches);
+  EXPECT_LT(*std::max_element(right.begin(), right.end()), 0.05);
+  // The first update is weighed without motion (no proposal); the next 10 build the baseline.
+  EXPECT_GE(matches[11], 10u);
+  EXPECT_LE(matches.back() - matches[11], 2u);  // at most 2 of the last 12 right updates
+  matches.clear();
+  const std::vector<double> reversed = errorsWithReversedOdometry(c, 4, 16, 24, &matches);
+  EXPECT_LT(*std::max_element(reversed.begin(), reversed.end()), 0.1);
+  // The updates after the reversed moves 16-19: each matched.
+  EXPECT_EQ(matches[20] - matches[16], 4u);
 }
 
 // Scans within update_min_d and update_min_a of the last update only move the estimate by the

@@ -98,6 +98,7 @@ struct LocalizerStats {
   uint64_t global_searches = 0;   // correlative searches of a scan over the map (global_search)
   double global_search_s = 0.0;   // their process CPU time, score grids' build included
   uint64_t scan_proposals = 0;    // updates whose samples were partly drawn from the scan
+  uint64_t proposal_matches = 0;  // updates at which the mixture proposal matched the scan
 };
 
 class Localizer {
@@ -223,6 +224,11 @@ class Localizer {
   // Fed with each tracking update's log evidence (kidnap_alarm_*): a kidnap or a lost filter makes
   // the scans less plausible at the particles than while the filter tracked.
   PlausibilityAlarm kidnap_alarm_;
+  // The mixture proposal's gate: the plausibility per beam at the odometry's prediction of the
+  // estimate, against its own recent updates (an envelope, one update); only a prediction below
+  // them is checked by the two scan matches.
+  PlausibilityAlarm prediction_gate_{1.0, 1};
+  double last_kidnap_ratio_ = 0.0;  // the kidnap alarm's ratio at the last update
   std::vector<StampedPose> trajectory_;
   LocalizerStats stats_;
 };
