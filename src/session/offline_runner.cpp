@@ -103,7 +103,7 @@ bool Run::startLocalization(MappingSession* session, const LoadedMap& loaded, st
   summary.x = start.pose.x;
   summary.y = start.pose.y;
   summary.theta = start.pose.theta;
-  summary.pose_from = start.global ? "--global"
+  summary.pose_from = start.global            ? "--global"
                       : opt_.has_initial_pose ? "--initial-pose"
                                               : "default (0, 0, 0)";
   summary_.start = summary;
@@ -120,9 +120,13 @@ bool writeLocalizationCsv(const std::string& path, const std::vector<Localizatio
              "covariance (m^2, m*rad, rad^2), the particles after the update, resampled (1 = "
              "yes), the mean log plausibility per weighed beam, the anomaly the scan added "
              "(bits), what it contradicted (the conflict alarm's input, about cells), the "
-             "alarm (1 = on), the particles spread again over the free space (1 = yes)\n"
+             "conflict alarm (1 = on), the particles drawn again by kidnap_recovery (1 = yes), the "
+             "scan's log plausibility per weighed beam under the predicted cloud (the kidnap "
+             "alarm's input), how far it fell below the alarm's baseline median in envelopes "
+             "(the deepest recent fall), the kidnap alarm (1 = on)\n"
           << "stamp,x,y,theta,cov_xx,cov_xy,cov_xa,cov_yy,cov_ya,cov_aa,particles,resampled,"
-             "mean_log_plausibility,anomaly_added_bits,contradiction,alarm,respread\n";
+             "mean_log_plausibility,anomaly_added_bits,contradiction,alarm,respread,log_evidence,"
+             "kidnap_ratio,kidnap_alarm\n";
         char line[400];
         for (const LocalizationRow& r : rows) {
           const Pose2& m = r.estimate.mean;
@@ -130,11 +134,12 @@ bool writeLocalizationCsv(const std::string& path, const std::vector<Localizatio
           std::snprintf(
               line, sizeof(line),
               "%.6f,%.6f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%zu,%d,%.6g,%.6g,%.6g,%d,"
-              "%d\n",
+              "%d,%.6g,%.4g,%d\n",
               r.stamp, m.x, m.y, m.theta, c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2),
               r.update.particles, r.update.resampled ? 1 : 0, r.update.mean_log_plausibility,
               r.update.anomaly_added_bits, r.update.contradiction, r.update.alarm.alarm ? 1 : 0,
-              r.update.respread ? 1 : 0);
+              r.update.respread ? 1 : 0, r.update.log_evidence, r.update.kidnap_alarm.ratio,
+              r.update.kidnap_alarm.alarm ? 1 : 0);
           f << line;
         }
         return static_cast<bool>(f);
@@ -474,16 +479,15 @@ int Run::execute() {
   summary_.peak_rss_mb = peakRssMb();
   if (profiler) {
     char line[160];
-    std::snprintf(line, sizeof(line),
-                  "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
-                  "update (floor replay included)\n",
-                  slam_cpu_s,
-                  1e3 * slam_cpu_s /
-                      std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
+    std::snprintf(
+        line, sizeof(line),
+        "process CPU (user + system) while processing the log: %.2f s, %.2f ms per "
+        "update (floor replay included)\n",
+        slam_cpu_s,
+        1e3 * slam_cpu_s / std::max<double>(1.0, profiler->counter(ProfileCounter::kUpdates)));
     const std::string report = profiler->report() + line;
-    if (!outputs_.add(
-            (out_dir_ / "profile.txt").string(),
-            [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
+    if (!outputs_.add((out_dir_ / "profile.txt").string(),
+                      [&](std::ostream& out) { return static_cast<bool>(out << report); }, &why)) {
       return fail(kExitBadInput, why);
     }
     summary_.outputs.push_back("profile.txt");

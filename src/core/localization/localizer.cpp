@@ -70,7 +70,10 @@ struct Localizer::Workspace {
 
 Localizer::Localizer(const LocalizationConfig& config, const SlamConfig& slam,
                      const ConflictAlarmConfig& alarm)
-    : config_(config), slam_(slam), alarm_(alarm) {
+    : config_(config),
+      slam_(slam),
+      alarm_(alarm),
+      kidnap_alarm_(config.kidnap_alarm_factor, config.kidnap_alarm_updates) {
   std::string why;
   if (!config_.isValid(&why) || !slam_.isValid(&why)) {
     throw std::invalid_argument("invalid localization configuration: " + why);
@@ -96,6 +99,8 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   particles_.clear();
   anomaly_.clear();
   alarm_.reset();
+  kidnap_alarm_.reset();
+  prediction_gate_.reset();
   trajectory_.clear();
   stats_ = LocalizerStats{};
   restartFilter();
@@ -110,6 +115,7 @@ void Localizer::restartFilter() {
   updates_since_resample_ = 0;
   w_slow_ = w_fast_ = 0.0;
   last_match_.reset();
+  last_kidnap_ratio_ = 0.0;
 }
 
 bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& slam,
@@ -122,6 +128,7 @@ bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& 
   config_ = config;
   slam_ = next;
   models_.clear();
+  kidnap_alarm_.configure(config_.kidnap_alarm_factor, config_.kidnap_alarm_updates);
   return true;
 }
 
@@ -181,6 +188,8 @@ bool Localizer::resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, st
   const Eigen::Matrix3d root = eig.eigenvectors() * values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
   restartFilter();
   alarm_.reset();  // a new start: the scans before it (perhaps lost) are no baseline
+  kidnap_alarm_.reset();
+  prediction_gate_.reset();
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   drawKld(static_cast<size_t>(config_.max_particles), [&] {
     const Eigen::Vector3d d =
@@ -213,6 +222,8 @@ bool Localizer::globalLocalization(std::string* why) {
   buildFreeCells();
   if (free_cells_.empty()) return refuse(why, "the map has no free space to spread particles on");
   alarm_.reset();
+  kidnap_alarm_.reset();
+  prediction_gate_.reset();
   spreadOverFreeSpace();
   search_pending_ = config_.global_search;
   return true;
@@ -447,21 +458,33 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
     const Eigen::Matrix3d spread =
         estimate_.covariance +
         rotation * MixtureProposal::driftCovariance(increment, drift) * rotation.transpose();
-    // Matched from the odometry's prediction and from where the last update's match put the robot
-    // (the estimate after a reset), where a failed increment leaves it; the one that explains the
-    // scan better.
-    Pose2 matched = models.matcher.refine(map_, predicted, endpoints);
-    const Pose2 unmoved =
-        models.matcher.refine(map_, last_match_ ? *last_match_ : estimate_.mean, endpoints);
-    double w_matched = 0.0, w_unmoved = 0.0, w_predicted = 0.0;
-    weigh(matched, &w_matched);
-    weigh(unmoved, &w_unmoved);
-    weigh(predicted, &w_predicted);
-    if (w_unmoved > w_matched) {
-      matched = unmoved;
-      w_matched = w_unmoved;
+    // The odometry's prediction explains the scan as well as at the recent updates (no worse than
+    // the deepest of their falls below their median: prediction_gate_) and the last scan was as
+    // plausible under the cloud as usual (the kidnap alarm's ratio at most 1): the odometry did
+    // not fail, and the scan is not matched. Otherwise (or while the gate's baseline is short),
+    // matched from the prediction and from where the last update's match put the robot (the
+    // estimate after a reset), where a failed increment leaves it; the one that explains the scan
+    // better.
+    double w_predicted = 0.0;
+    const double pl_predicted = weigh(predicted, &w_predicted) / used;
+    const PlausibilityAlarmState gate =
+        prediction_gate_.update(pl_predicted, cloudSpread() <= slam_.matcher.search_radius);
+    Pose2 matched = predicted;
+    bool failed = false;
+    if (!gate.armed || gate.below || last_kidnap_ratio_ > 1.0) {
+      matched = models.matcher.refine(map_, predicted, endpoints);
+      const Pose2 unmoved =
+          models.matcher.refine(map_, last_match_ ? *last_match_ : estimate_.mean, endpoints);
+      double w_matched = 0.0, w_unmoved = 0.0;
+      weigh(matched, &w_matched);
+      weigh(unmoved, &w_unmoved);
+      if (w_unmoved > w_matched) {
+        matched = unmoved;
+        w_matched = w_unmoved;
+      }
+      failed = w_matched > w_predicted;
+      ++stats_.proposal_matches;
     }
-    const bool failed = w_matched > w_predicted;
     // A particle's odometry fails at odom_failure_rate, or at odom_failure_persistence after a
     // failure (its share of the particle's last move).
     const auto rate = [&](size_t k) {
@@ -510,6 +533,21 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   for (size_t k = 0; k < n; ++k) {
     if (!counts(k)) continue;
     max_log = std::max(max_log, std::log(particles_[k].weight) + log_weight[k]);
+  }
+  // The scan's log evidence per beam: (1 / beams) log Σ w Pl over the predicted cloud (the weights
+  // before this scan), the particles off the floor left out as in the weights below.
+  double max_evidence = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < n; ++k) {
+    if (counts(k))
+      max_evidence = std::max(max_evidence, std::log(particles_[k].weight) + log_pl[k]);
+  }
+  if (used > 0.0 && std::isfinite(max_evidence)) {
+    double sum_evidence = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+      if (counts(k))
+        sum_evidence += std::exp(std::log(particles_[k].weight) + log_pl[k] - max_evidence);
+    }
+    out.log_evidence = (max_evidence + std::log(sum_evidence)) / used;
   }
   double sum = 0.0, w_avg = 0.0, mean_pl = 0.0;
   for (size_t k = 0; k < n; ++k) {
@@ -584,13 +622,21 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
   for (const AnomalyCell& c : cells) out.anomaly_added_bits += c.bits;
   anomaly_.add(cells);
   out.contradiction = contradictionOf(cells);
-  // The alarm judges the scans at an estimate the filter tracks (not while a global localization
-  // searches, when the estimate means nothing yet). A kidnap makes the scans contradict the map
-  // several times more than any while tracking; the particles then search the whole free space.
-  // The baseline is kept: the map and the sensor are the same after the kidnap.
+  // The alarms judge the scans at a cloud the filter tracks (not while a global localization
+  // searches, when the estimate means nothing yet). A kidnap makes the scans far less plausible at
+  // every likely particle than while tracking (the kidnap alarm, whose baseline grows from the
+  // updates at which the cloud is narrower than the matcher's reach); the particles then search
+  // the whole free space. The conflict alarm is reported, not acted on: a changed world contradicts
+  // the map at the right pose too (docs/decisions.md#kidnap-recovery-on-the-scans-plausibility).
+  // The baselines are kept: the map and the sensor are the same after the kidnap.
   if (!searching_) {
     out.alarm = alarm_.update(out.contradiction);
-    if (out.alarm.rising && config_.kidnap_recovery) {
+    if (used > 0.0) {
+      out.kidnap_alarm =
+          kidnap_alarm_.update(out.log_evidence, cloudSpread() <= slam_.matcher.search_radius);
+    }
+    last_kidnap_ratio_ = out.kidnap_alarm.ratio;
+    if (out.kidnap_alarm.rising && config_.kidnap_recovery) {
       buildFreeCells();
       if (!free_cells_.empty()) {
         trajectory_.push_back(StampedPose{scan.stamp, estimate_.mean});
@@ -603,6 +649,7 @@ LocalizationUpdate Localizer::processScan(const Pose2& odometry, const LaserScan
           spreadOverFreeSpace();
         }
         alarm_.rearm();
+        kidnap_alarm_.rearm();
         ++stats_.recoveries;
         out.respread = true;
         return out;

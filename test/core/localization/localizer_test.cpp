@@ -364,12 +364,13 @@ TEST(Localizer, ShortReadingsRateFollowsAnUnexpectedObstacle) {
 // while its odometry goes on as if it had made one ordinary step, then drives on from there.
 // Returns the error of the estimate at each scan after the kidnap.
 std::vector<double> kidnapped(const LocalizationConfig& c, int* respread_at = nullptr,
-                              uint64_t seed = slamConfig().seed) {
+                              uint64_t seed = slamConfig().seed, int kidnap_at = 70,
+                              const ConflictAlarmConfig& alarm = ConflictAlarmConfig(),
+                              int* kidnap_alarm_at = nullptr) {
   SlamConfig slam = slamConfig();
   slam.seed = seed;
-  Localizer loc(c, slam);
+  Localizer loc(c, slam, alarm);
   EXPECT_TRUE(loc.setMap(roomMap(), nullptr));
-  const int kidnap_at = 70;
   const Route before = route(kidnap_at);
   const Pose2 last = before.truth.back();
   Pose2 carried;
@@ -400,6 +401,9 @@ std::vector<double> kidnapped(const LocalizationConfig& c, int* respread_at = nu
     if (u.respread && respread_at != nullptr && *respread_at < 0) {
       *respread_at = static_cast<int>(i);
     }
+    if (u.kidnap_alarm.rising && kidnap_alarm_at != nullptr && *kidnap_alarm_at < 0) {
+      *kidnap_alarm_at = static_cast<int>(i);
+    }
     errors.push_back(distance(loc.estimate().mean, inMap(after.truth[i])));
   }
   return errors;
@@ -422,6 +426,35 @@ TEST(Localizer, KidnapIsDetectedAndRecovered) {
   c.kidnap_recovery = false;
   respread_at = -1;
   const std::vector<double> lost = kidnapped(c, &respread_at);
+  EXPECT_EQ(respread_at, -1);
+  EXPECT_GT(lost[20], 0.5);
+}
+
+// The kidnap alarm alone (the conflict alarm off, as where a noisy laser contradicts nothing
+// confident), 20 updates after the start: its baseline began at the first updates (the cloud
+// started narrow), so it is armed; the scans at the particles fall far below the baseline's
+// plausibility, the alarm fires within 3 scans and the estimate is back on the truth by 20 scans.
+// With the threshold out of reach (1000 envelopes) nothing fires and the filter
+// stays lost.
+TEST(Localizer, KidnapAlarmOnPlausibilityDetectsAnEarlyKidnap) {
+  ConflictAlarmConfig off;
+  off.enabled = false;
+  LocalizationConfig c = localizationConfig();
+  c.max_particles = 2000;
+  c.kidnap_recovery = true;
+  int respread_at = -1, alarm_at = -1;
+  const std::vector<double> errors =
+      kidnapped(c, &respread_at, slamConfig().seed, 20, off, &alarm_at);
+  EXPECT_GE(alarm_at, 0);
+  EXPECT_LE(alarm_at, 3);
+  EXPECT_EQ(respread_at, alarm_at);
+  for (size_t i = 20; i < errors.size(); ++i) EXPECT_LT(errors[i], 0.1) << i;
+
+  c.kidnap_alarm_factor = 1000.0;
+  respread_at = alarm_at = -1;
+  const std::vector<double> lost =
+      kidnapped(c, &respread_at, slamConfig().seed, 20, off, &alarm_at);
+  EXPECT_EQ(alarm_at, -1);
   EXPECT_EQ(respread_at, -1);
   EXPECT_GT(lost[20], 0.5);
 }
@@ -500,18 +533,21 @@ TEST(Localizer, TracksOdometryThatSlipsInTurns) {
 // freiburg-079's raw odometry does for 0.7 m), for `reversed` updates of 0.12 m, then right again:
 // the errors of the estimate (position, m) after each update. The drift proposal's along-track σ
 // is √(0.006 · 0.12) = 0.027 m per update, 9 σ short of the 0.24 m each reversed update misses by.
-std::vector<double> errorsWithReversedOdometry(const LocalizationConfig& c, int reversed) {
+std::vector<double> errorsWithReversedOdometry(const LocalizationConfig& c, int reversed,
+                                               int from = 8, int updates = 22,
+                                               std::vector<uint64_t>* matches = nullptr) {
   Localizer loc(c, slamConfig());
   EXPECT_TRUE(loc.setMap(roomMap(), nullptr));
   Pose2 truth(-1.3, -0.5, 0.0), odometry(5.0, 3.0, -1.0);
   EXPECT_TRUE(loc.resetAt(inMap(truth), Eigen::Matrix3d::Identity() * 1e-4, nullptr));
   std::vector<double> errors;
-  for (int i = 0; i < 22; ++i) {
+  for (int i = 0; i < updates; ++i) {
     const LocalizationUpdate u =
         loc.processScan(odometry, blockRoomScan(truth, 1.0 + 0.1 * i, true));
     EXPECT_TRUE(u.processed);
     errors.push_back(distance(loc.estimate().mean, inMap(truth)));
-    const bool backing = i >= 8 && i < 8 + reversed;
+    if (matches != nullptr) matches->push_back(loc.stats().proposal_matches);
+    const bool backing = i >= from && i < from + reversed;
     truth = truth.compose(Pose2(backing ? -0.12 : 0.12, 0.0, 0.0));
     odometry = odometry.compose(Pose2(0.12, 0.0, 0.0));
   }
@@ -539,6 +575,25 @@ TEST(Localizer, MixtureProposalKeepsTracking) {
   c.odom_failure_rate = 0.0;
   const std::vector<double> drift = errorsWithReversedOdometry(c, 0);
   EXPECT_LT(*std::max_element(drift.begin(), drift.end()), 0.05);
+}
+
+// The mixture proposal matches the scan only where the odometry's prediction explains it worse
+// than at any recent update (or the last scan was less plausible than usual): not while the
+// odometry is right once the gate's baseline holds 10 updates, but at the reversed updates, where
+// it still tracks.
+TEST(Localizer, MixtureProposalMatchesOnlyWhereThePredictionFalls) {
+  const LocalizationConfig c = localizationConfig();
+  std::vector<uint64_t> matches;
+  const std::vector<double> right = errorsWithReversedOdometry(c, 0, 16, 24, &matches);
+  EXPECT_LT(*std::max_element(right.begin(), right.end()), 0.05);
+  // The first update is weighed without motion (no proposal); the next 10 build the baseline.
+  EXPECT_GE(matches[11], 10u);
+  EXPECT_LE(matches.back() - matches[11], 2u);  // at most 2 of the last 12 right updates
+  matches.clear();
+  const std::vector<double> reversed = errorsWithReversedOdometry(c, 4, 16, 24, &matches);
+  EXPECT_LT(*std::max_element(reversed.begin(), reversed.end()), 0.1);
+  // The updates after the reversed moves 16-19: each matched.
+  EXPECT_EQ(matches[20] - matches[16], 4u);
 }
 
 // Scans within update_min_d and update_min_a of the last update only move the estimate by the

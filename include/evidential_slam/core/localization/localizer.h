@@ -15,12 +15,13 @@
 // plausibility drops (augmented MCL, as amcl). The pose estimate is the mean and covariance of the
 // heaviest cluster of particles, its mean refined by one scan match (scan_matching). The anomaly of
 // every processed scan at the estimate is accumulated against the map (anomaly.h): what changed
-// since the map was made. What that anomaly contradicts feeds the conflict alarm; when it fires
-// (the scans contradict the map far more than while the filter tracked), kidnap_recovery spreads
-// the particles over the free space again, as a global localization. With global_search (the
-// default) both draw the particles around the poses where the scan fits best on the whole map
-// (GlobalSearch, a correlative branch and bound) instead of uniformly: a uniform cloud rarely puts
-// a sample in the scan matcher's basin around the truth.
+// since the map was made. The scan's log plausibility under the predicted cloud feeds the kidnap
+// alarm (plausibility_alarm.h); when it fires (the scans far less plausible at every likely
+// particle than while the filter tracked), kidnap_recovery draws the particles again, as a global
+// localization. What the anomaly contradicts feeds the conflict alarm, reported only. With
+// global_search (the default) both draw the particles around the poses where the scan fits best on
+// the whole map (GlobalSearch, a correlative branch and bound) instead of uniformly: a uniform
+// cloud rarely puts a sample in the scan matcher's basin around the truth.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,7 @@
 #include "evidential_slam/core/evidential_grid.h"
 #include "evidential_slam/core/laser_scan.h"
 #include "evidential_slam/core/localization/localization_config.h"
+#include "evidential_slam/core/localization/plausibility_alarm.h"
 #include "evidential_slam/core/pose2.h"
 #include "evidential_slam/core/slam_engine.h"
 
@@ -64,15 +66,20 @@ struct LocalizationUpdate {
   bool resampled = false;
   size_t particles = 0;                // after this scan
   double mean_log_plausibility = 0.0;  // per weighed beam, over the particles (processed scans)
-  double effective_particles = 0.0;    // N_eff = 1 / Σ w² after the weighing (processed scans)
-  double short_rate = 0.0;             // beam: the short readings' rate used for this scan
-  size_t random_particles = 0;         // drawn from free space by the recovery at this scan
-  size_t scan_samples = 0;             // drawn around the scan-matched pose by the mixture proposal
-  double failure_share = 0.0;          // the odometry failure's share of the weight at this update
-  double anomaly_added_bits = 0.0;     // the anomaly this scan added at the estimate
-  double contradiction = 0.0;          // its Σ K (contradictionOf): the conflict alarm's input
-  ConflictAlarmState alarm;            // the alarm's verdict (processed scans, not while searching)
-  bool respread = false;  // kidnap_recovery spread the particles over the free space after it
+  // The scan's log plausibility under the predicted cloud, per weighed beam: (1 / beams) log Σ w
+  // Pl(scan | particle), the particles' weights before this scan (the kidnap alarm's input).
+  double log_evidence = 0.0;
+  double effective_particles = 0.0;  // N_eff = 1 / Σ w² after the weighing (processed scans)
+  double short_rate = 0.0;           // beam: the short readings' rate used for this scan
+  size_t random_particles = 0;       // drawn from free space by the recovery at this scan
+  size_t scan_samples = 0;           // drawn around the scan-matched pose by the mixture proposal
+  double failure_share = 0.0;        // the odometry failure's share of the weight at this update
+  double anomaly_added_bits = 0.0;   // the anomaly this scan added at the estimate
+  double contradiction = 0.0;        // its Σ K (contradictionOf): the conflict alarm's input
+  ConflictAlarmState alarm;          // the alarm's verdict (processed scans, not while searching)
+  PlausibilityAlarmState kidnap_alarm;  // the plausibility alarm's (likewise)
+  // kidnap_recovery drew the particles again after the kidnap alarm rose
+  bool respread = false;
 };
 
 struct LocalizerStats {
@@ -91,13 +98,14 @@ struct LocalizerStats {
   uint64_t global_searches = 0;   // correlative searches of a scan over the map (global_search)
   double global_search_s = 0.0;   // their process CPU time, score grids' build included
   uint64_t scan_proposals = 0;    // updates whose samples were partly drawn from the scan
+  uint64_t proposal_matches = 0;  // updates at which the mixture proposal matched the scan
 };
 
 class Localizer {
  public:
   // `slam` gives the sensor and matcher models, the motion noise floors, the likelihood
   // temperature, the seed and the threads (its particle count and resolution are not used: the map
-  // has its own); `alarm` the conflict alarm kidnap_recovery listens to. Throws
+  // has its own); `alarm` the conflict alarm (reported in each update). Throws
   // std::invalid_argument for an invalid configuration (check isValid first).
   Localizer(const LocalizationConfig& config, const SlamConfig& slam,
             const ConflictAlarmConfig& alarm = ConflictAlarmConfig());
@@ -210,9 +218,17 @@ class Localizer {
   // Where the last update's mixture proposal matched the scan (none after a reset).
   std::optional<Pose2> last_match_;
   AnomalyGrid anomaly_;
-  // Fed with what each scan at the estimate contradicts in the map while the filter tracks: a
-  // kidnap or a lost filter makes it fire (kidnap_recovery).
+  // Fed with what each scan at the estimate contradicts in the map while the filter tracks;
+  // reported (LocalizationUpdate::alarm), not acted on: a changed world contradicts the map too.
   ConflictAlarm alarm_;
+  // Fed with each tracking update's log evidence (kidnap_alarm_*): a kidnap or a lost filter makes
+  // the scans less plausible at the particles than while the filter tracked.
+  PlausibilityAlarm kidnap_alarm_;
+  // The mixture proposal's gate: the plausibility per beam at the odometry's prediction of the
+  // estimate, against its own recent updates (an envelope, one update); only a prediction below
+  // them is checked by the two scan matches.
+  PlausibilityAlarm prediction_gate_{1.0, 1};
+  double last_kidnap_ratio_ = 0.0;  // the kidnap alarm's ratio at the last update
   std::vector<StampedPose> trajectory_;
   LocalizerStats stats_;
 };
