@@ -410,12 +410,8 @@ void BeamModel::traceScan(const Pose2& sensor_in_map, const LaserScan& scan,
   forEachRay(sensor_in_map, scan, &out->rays_bad, &out->rays_no_return, [&](const Ray& ray) {
     TracedBeam b;
     b.begin = static_cast<uint32_t>(out->cells.size());
-    // Grown geometrically: a reserve of just this beam's cells reallocates the whole scan's cells
-    // at every beam when `out` starts empty (quadratic in the beams).
-    const size_t needed =
-        out->cells.size() + static_cast<size_t>(2.0 * ray.length / resolution_) + 4;
-    if (needed > out->cells.capacity())
-      out->cells.reserve(std::max(needed, 2 * out->cells.capacity()));
+    // No reserve of this beam's cells: it would reallocate the whole scan's cells at every beam
+    // when `out` starts empty (quadratic in the beams); push_back grows geometrically.
     traverse(origin, ray.angle, ray.length, [&](int cx, int cy, float d) {
       out->cells.push_back(RayCell{cx, cy, d});
     });
