@@ -113,6 +113,7 @@ bool writeSummaryJson(const std::string& path, const RunSummary& s, std::string*
     o["recoveries"] = l.recoveries;
     o["global_searches"] = l.global_searches;
     o["global_search_s"] = l.global_search_s;
+    o["proposal_matches"] = l.proposal_matches;
     j["localization"] = o;
   }
 

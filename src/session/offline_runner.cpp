@@ -381,6 +381,7 @@ int Run::execute() {
     loc.recoveries = l.recoveries;
     loc.global_searches = l.global_searches;
     loc.global_search_s = l.global_search_s;
+    loc.proposal_matches = l.proposal_matches;
     summary_.localization = loc;
     summary_.scans_processed = l.scans_processed;
     summary_.resamplings = l.resamplings;

@@ -706,6 +706,8 @@ TEST_F(OfflineE2E, LocalizesOnAMapOfTheFixture) {
   EXPECT_GT(loc["real_time_factor"].get<double>(), 0.0);
   EXPECT_GT(loc["cpu_time_s"].get<double>(), 0.0);
   EXPECT_GT(loc["log_duration_s"].get<double>(), 10.0);
+  ASSERT_TRUE(loc.contains("proposal_matches"));
+  EXPECT_LE(loc["proposal_matches"].get<uint64_t>(), updates);
 
   const std::string csv = test::readText(out / "localization.csv");
   EXPECT_EQ(lineCount(csv), static_cast<int>(updates) + 2);  // a comment and the header

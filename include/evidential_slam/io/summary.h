@@ -64,6 +64,7 @@ struct LocalizationSummary {
   uint64_t recoveries = 0;            // kidnap_recovery's spreads over the free space
   uint64_t global_searches = 0;       // correlative searches of a scan over the map
   double global_search_s = 0.0;       // ... their CPU s (score grids built included)
+  uint64_t proposal_matches = 0;      // updates at which the mixture proposal matched the scan
 };
 
 struct RunSummary {
