@@ -1,7 +1,7 @@
-// When to subscribe again to a robot's map that has not arrived: roscpp does not retry a
-// subscription whose latched message was lost on the way, so the map fusion nodelet makes it again
-// after a wait that doubles each time (a robot that has not published yet costs a few warnings,
-// not one a second). ROS-free: times in seconds on any clock.
+// When to subscribe again to a robot's map that has not arrived: on a busy machine a latched map
+// was seen never to reach a subscription whose publisher was connected, and a new subscription
+// gets it. The map fusion nodelet makes it again after a wait that doubles each time (a robot that
+// has not published yet costs a few warnings, not one a second). ROS-free: seconds on any clock.
 #pragma once
 
 #include <algorithm>
