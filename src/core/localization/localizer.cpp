@@ -98,9 +98,7 @@ bool Localizer::setMap(const EvidentialGridMap& map, std::string* why) {
   short_rate_ = 0.0;
   particles_.clear();
   anomaly_.clear();
-  alarm_.reset();
-  kidnap_alarm_.reset();
-  prediction_gate_.reset();
+  resetAlarms();
   trajectory_.clear();
   stats_ = LocalizerStats{};
   restartFilter();
@@ -116,6 +114,12 @@ void Localizer::restartFilter() {
   w_slow_ = w_fast_ = 0.0;
   last_match_.reset();
   last_kidnap_ratio_ = 0.0;
+}
+
+void Localizer::resetAlarms() {
+  alarm_.reset();
+  kidnap_alarm_.reset();
+  prediction_gate_.reset();
 }
 
 bool Localizer::reconfigure(const LocalizationConfig& config, const SlamConfig& slam,
@@ -187,9 +191,7 @@ bool Localizer::resetAt(const Pose2& pose, const Eigen::Matrix3d& covariance, st
   }
   const Eigen::Matrix3d root = eig.eigenvectors() * values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
   restartFilter();
-  alarm_.reset();  // a new start: the scans before it (perhaps lost) are no baseline
-  kidnap_alarm_.reset();
-  prediction_gate_.reset();
+  resetAlarms();  // a new start: the scans before it (perhaps lost) are no baseline
   Rng rng = Rng::forStream(slam_.seed, kDrawStream, draws_++);
   drawKld(static_cast<size_t>(config_.max_particles), [&] {
     const Eigen::Vector3d d =
@@ -221,9 +223,7 @@ bool Localizer::globalLocalization(std::string* why) {
   if (map_.observedBox().empty()) return refuse(why, "no map to localize on");
   buildFreeCells();
   if (free_cells_.empty()) return refuse(why, "the map has no free space to spread particles on");
-  alarm_.reset();
-  kidnap_alarm_.reset();
-  prediction_gate_.reset();
+  resetAlarms();
   spreadOverFreeSpace();
   search_pending_ = config_.global_search;
   return true;

@@ -175,6 +175,8 @@ class Localizer {
   // Forgets the odometry and the recovery's averages: the next scan is weighed where the
   // particles are.
   void restartFilter();
+  // Forgets the conflict alarm's, the kidnap alarm's and the prediction gate's baselines.
+  void resetAlarms();
   // max_particles poses drawn uniformly from the free space (buildFreeCells first; not empty).
   void spreadOverFreeSpace();
   // max_particles poses drawn around the best hypotheses of a GlobalSearch of `scan`'s hit beams
